@@ -1,0 +1,35 @@
+//! demkit — density-equalizing maps of triangulated surfaces.
+//!
+//! Given a triangle mesh and a positive *population* on every face, demkit deforms (or flattens)
+//! the surface onto a standard domain so that population per unit area becomes uniform.
+//! The maps are computed by density diffusion (Gastner–Newman), discretised with finite elements
+//! on the mesh, and kept bijective with quasi-conformal (Beltrami) corrections.
+//!
+//! Module map (one concept per file):
+//! - [`mesh`]: the triangle mesh, its topology and validation;
+//! - [`io`]: mesh, population and landmark files;
+//! - [`geometry`]: areas, normals, angles, local frames;
+//! - [`fem`]: cotangent Laplacian, lumped mass, face gradient, face→vertex averaging;
+//! - [`linalg`]: sparse assembly over a fixed pattern and cached factorizations;
+//! - [`qc`]: Beltrami coefficients and the linear Beltrami solver;
+//! - [`init`]: initial maps (boundary flattening, Tutte, locally authalic, the sea);
+//! - [`methods`]: the density-equalizing methods themselves;
+//! - [`metrics`]: the report metrics shared by every method;
+//! - [`population`]: populations from names, files and expressions;
+//! - [`generate`]: synthetic meshes for examples and tests.
+
+pub mod error;
+pub mod fem;
+pub mod generate;
+pub mod geometry;
+pub mod init;
+pub mod io;
+pub mod linalg;
+pub mod mesh;
+pub mod methods;
+pub mod metrics;
+pub mod population;
+pub mod qc;
+
+pub use error::{Error, Result};
+pub use mesh::TriMesh;
