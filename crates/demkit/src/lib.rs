@@ -18,7 +18,10 @@
 //! - [`population`]: populations from names, files and expressions;
 //! - [`generate`]: synthetic meshes for examples and tests.
 
+#[cfg(test)]
+mod generate_fixtures;
 pub mod error;
+pub mod expr;
 pub mod fem;
 pub mod generate;
 pub mod geometry;

@@ -1,1 +1,8 @@
-//! TODO
+//! Quasi-conformal tools: the Beltrami coefficient of a piecewise-linear map, its truncation
+//! (SDEM paper (3.19)), and the linear Beltrami solver LBS (DEQ paper §3.2, (3.6)–(3.11)).
+
+mod beltrami;
+mod lbs;
+
+pub use beltrami::{beltrami_coefficient, beltrami_coefficient_surface, triangle_beltrami, truncate};
+pub use lbs::{generalized_laplacian_weights, LinearBeltramiSolver};
