@@ -1,3 +1,77 @@
-fn main() {
-    println!("Hello, world!");
+//! The `demkit` command line: density-equalizing maps of triangulated surfaces.
+//!
+//! Exit codes: 0 success; 2 bad input or arguments (one `error:` line on stderr); 3 not
+//! converged within `--max-iter` (result and report still written); 1 anything else.
+
+mod args;
+mod generate;
+mod info;
+mod map;
+mod progress;
+mod report;
+
+use clap::Parser;
+use std::process::ExitCode;
+
+/// A failure with the exit code it ends the process with.
+pub struct Failure {
+    /// Process exit code (1 or 2).
+    pub code: u8,
+    /// The message after `error: `.
+    pub message: String,
+}
+
+impl From<demkit::Error> for Failure {
+    fn from(e: demkit::Error) -> Self {
+        Failure { code: if e.is_input_error() { 2 } else { 1 }, message: e.to_string() }
+    }
+}
+
+impl Failure {
+    /// A bad-input failure (exit code 2).
+    pub fn input(message: impl Into<String>) -> Self {
+        Failure { code: 2, message: message.into() }
+    }
+}
+
+fn main() -> ExitCode {
+    // A bug must never show a panic trace: report it on one line and exit with 1.
+    std::panic::set_hook(Box::new(|info| {
+        let msg = info
+            .payload()
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| info.payload().downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown".into());
+        let at = info.location().map(|l| format!(" at {}:{}", l.file(), l.line())).unwrap_or_default();
+        eprintln!("error: internal error ({msg}{at}); please report it");
+    }));
+    let cli = match args::Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand) {
+                let _ = e.print();
+                return ExitCode::SUCCESS;
+            }
+            let text = e.to_string();
+            let first = text.lines().next().unwrap_or("invalid arguments").trim();
+            let first = first.strip_prefix("error: ").unwrap_or(first);
+            eprintln!("error: {first} (see demkit --help)");
+            return ExitCode::from(2);
+        }
+    };
+    let outcome = std::panic::catch_unwind(|| match cli.command {
+        args::Command::Info(a) => info::run(&a),
+        args::Command::Map(a) => map::run(&a),
+        args::Command::Generate(a) => generate::run(&a),
+    });
+    match outcome {
+        Ok(Ok(code)) => ExitCode::from(code),
+        Ok(Err(f)) => {
+            eprintln!("error: {}", f.message);
+            ExitCode::from(f.code)
+        }
+        Err(_) => ExitCode::from(1),
+    }
 }

@@ -1,1 +1,219 @@
-//! TODO
+//! The report metrics of DESIGN.md, one definition each, shared by every method.
+//!
+//! Notation: P(T) population of face T, A0(T) its area on the initial map, A(T) its area on the
+//! final map; sums run over the faces of the input (a sea never counts).
+
+use crate::fem::VertexFaces;
+use crate::geometry::signed_areas_2d;
+use crate::qc::beltrami_coefficient_surface;
+use crate::TriMesh;
+
+/// The target domain of a map, which decides how flips and areas are measured.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Domain {
+    /// A planar map (x, y; z ignored).
+    Plane,
+}
+
+/// The report metrics (DESIGN.md, "Report").
+#[derive(Debug, Clone, PartialEq)]
+pub struct Metrics {
+    /// Faces whose signed area has the sign opposite to the majority, or is zero.
+    pub flipped_triangles: usize,
+    /// Var(ρ_V / mean ρ_V) on the initial map (population variance).
+    pub density_var_initial: f64,
+    /// Var(ρ_V / mean ρ_V) on the final map.
+    pub density_var_final: f64,
+    /// Var(ρ_F / mean ρ_F) on the initial map.
+    pub face_density_var_initial: f64,
+    /// Var(ρ_F / mean ρ_F) on the final map.
+    pub face_density_var_final: f64,
+    /// Mean of |d(T)|, d(T) = log((A(T)/ΣA) / (P(T)/ΣP)).
+    pub density_error_mean: f64,
+    /// Standard deviation of |d(T)|.
+    pub density_error_sd: f64,
+    /// Median of (P/ΣP)/(A/ΣA).
+    pub density_median: f64,
+    /// Interquartile range of (P/ΣP)/(A/ΣA).
+    pub density_iqr: f64,
+    /// Mean of |(A/ΣA)/(P/ΣP) − 1| (the E_A of the DEM paper's Table 5 when P = area).
+    pub area_ratio_error_mean: f64,
+    /// Mean |μ| of the map from the input surface to the output.
+    pub mean_abs_mu: f64,
+    /// Max |μ| of the map from the input surface to the output.
+    pub max_abs_mu: f64,
+    /// sqrt(Σ |f(p_i) − q_i|²) over the landmarks; `None` without landmarks.
+    pub landmark_error: Option<f64>,
+}
+
+/// Face areas of a map on `domain` (absolute values), and the number of flipped faces.
+pub fn map_areas(map: &[[f64; 3]], faces: &[[u32; 3]], domain: Domain) -> (Vec<f64>, usize) {
+    match domain {
+        Domain::Plane => {
+            let s = signed_areas_2d(map, faces);
+            let pos = s.iter().filter(|&&a| a > 0.0).count();
+            let neg = s.iter().filter(|&&a| a < 0.0).count();
+            let majority_positive = pos >= neg;
+            let flipped = s
+                .iter()
+                .filter(|&&a| a == 0.0 || (a > 0.0) != majority_positive)
+                .count();
+            (s.iter().map(|a| a.abs()).collect(), flipped)
+        }
+    }
+}
+
+/// Population variance of `x / mean(x)`.
+pub fn normalized_variance(x: &[f64]) -> f64 {
+    if x.is_empty() {
+        return 0.0;
+    }
+    let n = x.len() as f64;
+    let mean = x.iter().sum::<f64>() / n;
+    if mean == 0.0 {
+        return 0.0;
+    }
+    x.iter().map(|v| (v / mean - 1.0).powi(2)).sum::<f64>() / n
+}
+
+/// The `q`-quantile (0 ≤ q ≤ 1) of `sorted` by linear interpolation between order statistics.
+pub fn quantile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let h = q * (sorted.len() - 1) as f64;
+    let lo = h.floor() as usize;
+    let hi = (lo + 1).min(sorted.len() - 1);
+    sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo])
+}
+
+/// Vertex density ρ_V = W^FV ρ_F (4.31) for `ρ_F = P / A`, and ρ_F itself.
+pub fn densities(faces: &[[u32; 3]], n_vertices: usize, population: &[f64], areas: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let rho_f: Vec<f64> = population.iter().zip(areas).map(|(p, a)| p / a).collect();
+    let w = VertexFaces::new(n_vertices, faces);
+    (w.apply(areas, &rho_f), rho_f)
+}
+
+/// Mean and standard deviation of |d(T)|, d(T) = log((A/ΣA)/(P/ΣP)).
+pub fn density_error(population: &[f64], areas: &[f64]) -> (f64, f64) {
+    let sp: f64 = population.iter().sum();
+    let sa: f64 = areas.iter().sum();
+    let n = areas.len() as f64;
+    let d: Vec<f64> = population
+        .iter()
+        .zip(areas)
+        .map(|(p, a)| ((a / sa) / (p / sp)).ln().abs())
+        .collect();
+    let mean = d.iter().sum::<f64>() / n;
+    let sd = (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n).sqrt();
+    (mean, sd)
+}
+
+/// Computes every metric for the map `initial → final` of `input` with face `population`.
+/// `landmarks` are (vertex, target) pairs.
+pub fn compute(
+    input: &TriMesh,
+    population: &[f64],
+    initial: &[[f64; 3]],
+    final_map: &[[f64; 3]],
+    domain: Domain,
+    landmarks: Option<&[(usize, [f64; 3])]>,
+) -> Metrics {
+    let faces = &input.faces;
+    let n = input.n_vertices();
+    let (a0, _) = map_areas(initial, faces, domain);
+    let (a1, flipped) = map_areas(final_map, faces, domain);
+    let (rv0, rf0) = densities(faces, n, population, &a0);
+    let (rv1, rf1) = densities(faces, n, population, &a1);
+    let (density_error_mean, density_error_sd) = density_error(population, &a1);
+    let sp: f64 = population.iter().sum();
+    let sa: f64 = a1.iter().sum();
+    let mut ratio: Vec<f64> = population.iter().zip(&a1).map(|(p, a)| (p / sp) / (a / sa)).collect();
+    let area_ratio_error_mean =
+        population.iter().zip(&a1).map(|(p, a)| ((a / sa) / (p / sp) - 1.0).abs()).sum::<f64>() / a1.len() as f64;
+    ratio.sort_by(f64::total_cmp);
+    let mu = match domain {
+        Domain::Plane => beltrami_coefficient_surface(&input.positions, final_map, faces),
+    };
+    let abs_mu: Vec<f64> = mu.iter().map(|m| m.norm()).collect();
+    let landmark_error = landmarks.map(|l| {
+        l.iter()
+            .map(|&(v, q)| {
+                let p = final_map[v];
+                (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)
+            })
+            .sum::<f64>()
+            .sqrt()
+    });
+    Metrics {
+        flipped_triangles: flipped,
+        density_var_initial: normalized_variance(&rv0),
+        density_var_final: normalized_variance(&rv1),
+        face_density_var_initial: normalized_variance(&rf0),
+        face_density_var_final: normalized_variance(&rf1),
+        density_error_mean,
+        density_error_sd,
+        density_median: quantile(&ratio, 0.5),
+        density_iqr: quantile(&ratio, 0.75) - quantile(&ratio, 0.25),
+        area_ratio_error_mean,
+        mean_abs_mu: abs_mu.iter().sum::<f64>() / abs_mu.len().max(1) as f64,
+        max_abs_mu: abs_mu.iter().cloned().fold(0.0, f64::max),
+        landmark_error,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn two_triangles() -> TriMesh {
+        TriMesh::new(
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+    }
+
+    #[test]
+    fn identity_map_with_area_population_is_perfect() {
+        let m = two_triangles();
+        let pop = vec![0.5, 0.5];
+        let r = compute(&m, &pop, &m.positions, &m.positions, Domain::Plane, None);
+        assert_eq!(r.flipped_triangles, 0);
+        assert!(r.density_error_mean.abs() < 1e-15);
+        assert!((r.density_median - 1.0).abs() < 1e-15);
+        assert!(r.density_iqr.abs() < 1e-15);
+        assert!(r.mean_abs_mu < 1e-15);
+        assert_eq!(r.landmark_error, None);
+    }
+
+    #[test]
+    fn known_density_errors() {
+        let m = two_triangles();
+        // Populations 1 and 3: normalized P = 1/4, 3/4; areas 1/2, 1/2.
+        let pop = vec![1.0, 3.0];
+        let r = compute(&m, &pop, &m.positions, &m.positions, Domain::Plane, Some(&[(2, [1.0, 2.0, 0.0])]));
+        let d0 = (0.5f64 / 0.25).ln().abs();
+        let d1 = (0.5f64 / 0.75).ln().abs();
+        assert!((r.density_error_mean - (d0 + d1) / 2.0).abs() < 1e-14);
+        assert!((r.area_ratio_error_mean - (1.0 + 1.0 / 3.0) / 2.0).abs() < 1e-14);
+        // Face densities 2 and 6: normalized 0.5 and 1.5 → variance 0.25.
+        assert!((r.face_density_var_final - 0.25).abs() < 1e-14);
+        assert_eq!(r.landmark_error, Some(1.0));
+    }
+
+    #[test]
+    fn flips_are_counted_against_majority() {
+        let faces = vec![[0u32, 1, 2], [0, 2, 3], [0, 3, 1]];
+        let map = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]];
+        let (_, flipped) = map_areas(&map, &faces, Domain::Plane);
+        // Signed areas: +, +, − → one flip.
+        assert_eq!(flipped, 1);
+    }
+
+    #[test]
+    fn quantiles_interpolate() {
+        let s = [1.0, 2.0, 3.0, 4.0];
+        assert_eq!(quantile(&s, 0.5), 2.5);
+        assert_eq!(quantile(&s, 0.25), 1.75);
+    }
+}

@@ -2,7 +2,10 @@
 //! Positions are `[f64; 3]` everywhere (planar maps use z = 0), so every operator has one
 //! implementation for surfaces and for planar maps.
 
+mod plane;
 mod vec3;
+
+pub use plane::{planar_frame, PlaneFrame};
 
 pub use vec3::{add, cross, dot, norm, scale, sub};
 

@@ -1,25 +1,46 @@
-//! A sparse Cholesky factorization whose symbolic analysis (ordering, elimination tree) is done
-//! once per sparsity pattern; each iteration only refactors numerically.
+//! A sparse Cholesky factorization whose symbolic analysis (ordering, elimination tree,
+//! supernodes) is done once per sparsity pattern; each iteration only refactors numerically,
+//! reusing its workspace.
+//!
+//! The factorization runs single-threaded: on the mesh sizes demkit meets (10⁴–10⁶ unknowns,
+//! planar graphs with small supernodes) faer's multi-threaded kernels spent most of their time
+//! synchronizing (measured with `perf` on a 2-core machine); assembly is parallel instead.
 
 use super::StiffnessPattern;
 use crate::{Error, Result};
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{MatMut, Side};
+use faer::{Conj, MatMut, Par, Side};
+use std::cell::RefCell;
 
 /// The symbolic Cholesky analysis of a [`StiffnessPattern`], reusable for any values.
-#[derive(Debug, Clone)]
 pub struct CachedCholesky {
-    symbolic: SymbolicLlt<usize>,
+    symbolic: SymbolicCholesky<usize>,
     n: usize,
+    workspace: RefCell<MemBuffer>,
+}
+
+impl std::fmt::Debug for CachedCholesky {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CachedCholesky").field("n", &self.n).field("factor_len", &self.symbolic.len_val()).finish()
+    }
 }
 
 /// A numeric Cholesky factor `M = L Lᵀ` ready to solve.
 #[derive(Debug)]
-pub struct CholeskyFactor {
-    llt: Llt<usize, f64>,
+pub struct CholeskyFactor<'a> {
+    symbolic: &'a SymbolicCholesky<usize>,
+    values: Vec<f64>,
     n: usize,
+}
+
+fn new_workspace(symbolic: &SymbolicCholesky<usize>) -> MemBuffer {
+    let req = StackReq::any_of(&[
+        symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+        symbolic.solve_in_place_scratch::<f64>(2, Par::Seq),
+    ]);
+    MemBuffer::new(req)
 }
 
 impl CachedCholesky {
@@ -27,36 +48,38 @@ impl CachedCholesky {
     pub fn new(pattern: &StiffnessPattern) -> Result<Self> {
         let n = pattern.n_unknowns();
         let sym = SymbolicSparseColMatRef::new_checked(n, n, pattern.col_ptr(), None, pattern.row_idx());
-        let symbolic = SymbolicLlt::try_new(sym, Side::Lower)
+        let symbolic = factorize_symbolic_cholesky(sym, Side::Lower, Default::default(), Default::default())
             .map_err(|e| Error::Numerical(format!("symbolic Cholesky analysis failed: {e:?}")))?;
-        Ok(Self { symbolic, n })
+        let workspace = RefCell::new(new_workspace(&symbolic));
+        Ok(Self { symbolic, n, workspace })
     }
 
     /// Numeric factorization of the matrix with `values` on `pattern` (the same pattern as in
     /// [`new`](Self::new)). Fails if the matrix is not positive definite.
-    pub fn factor(&self, pattern: &StiffnessPattern, values: &[f64]) -> Result<CholeskyFactor> {
+    pub fn factor(&self, pattern: &StiffnessPattern, values: &[f64]) -> Result<CholeskyFactor<'_>> {
         let sym = SymbolicSparseColMatRef::new_checked(self.n, self.n, pattern.col_ptr(), None, pattern.row_idx());
         let mat = SparseColMatRef::new(sym, values);
-        let llt = Llt::try_new_with_symbolic(self.symbolic.clone(), mat, Side::Lower)
+        let mut l = vec![0.0; self.symbolic.len_val()];
+        let mut ws = self.workspace.borrow_mut();
+        self.symbolic
+            .factorize_numeric_llt(&mut l, mat, Side::Lower, Default::default(), Par::Seq, MemStack::new(&mut ws), Default::default())
             .map_err(|e| Error::Numerical(format!("matrix is not positive definite ({e:?})")))?;
-        Ok(CholeskyFactor { llt, n: self.n })
+        Ok(CholeskyFactor { symbolic: &self.symbolic, values: l, n: self.n })
     }
 }
 
-impl CholeskyFactor {
+impl CholeskyFactor<'_> {
     /// Solves `M x = b` in place for one right-hand side.
     pub fn solve_in_place(&self, b: &mut [f64]) {
-        debug_assert_eq!(b.len(), self.n);
-        let n = b.len();
-        let m = MatMut::from_column_major_slice_mut(b, n, 1);
-        self.llt.solve_in_place(m);
+        self.solve_many_in_place(b, 1);
     }
 
     /// Solves `M X = B` in place for `k` right-hand sides stored column-major in `b`.
     pub fn solve_many_in_place(&self, b: &mut [f64], k: usize) {
         debug_assert_eq!(b.len(), self.n * k);
+        let mut buf = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, Par::Seq));
         let m = MatMut::from_column_major_slice_mut(b, self.n, k);
-        self.llt.solve_in_place(m);
+        LltRef::new(self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, m, Par::Seq, MemStack::new(&mut buf));
     }
 }
 

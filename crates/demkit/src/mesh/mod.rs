@@ -1,5 +1,13 @@
 //! Triangle meshes: the [`TriMesh`] type, topology, validation and welding.
 
+pub mod topology;
+pub mod validate;
+pub mod weld;
+
+pub use topology::{Topology, connected_components, edges, topology, vertex_faces};
+pub use validate::{Findings, check, validate};
+pub use weld::weld;
+
 /// A triangle mesh: vertex positions and faces (counter-clockwise vertex triples).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct TriMesh {

@@ -1,1 +1,69 @@
-//! TODO
+//! The density-equalizing methods. Each is a `Config` whose `Default` is its paper's defaults
+//! and a `run` function returning a [`MapResult`].
+
+pub mod dem;
+pub mod dem_shape;
+mod disk_input;
+mod planar_diffusion;
+
+/// Why an iteration stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StopReason {
+    /// The method's stopping quantity fell below ε.
+    Tolerance,
+    /// The map stopped improving before reaching ε (still converged).
+    Stationary,
+    /// The iteration limit ran out (not converged).
+    MaxIter,
+}
+
+impl StopReason {
+    /// The report's name for the reason.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            StopReason::Tolerance => "tolerance",
+            StopReason::Stationary => "stationary",
+            StopReason::MaxIter => "max_iter",
+        }
+    }
+}
+
+/// What a long run reports after each iteration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Progress {
+    /// 1-based iteration number.
+    pub iteration: usize,
+    /// The iteration limit.
+    pub max_iter: usize,
+    /// The method's own stopping quantity (e.g. sd/mean of the density).
+    pub error: f64,
+}
+
+/// The outcome of a method.
+#[derive(Debug, Clone)]
+pub struct MapResult {
+    /// The method's report name (`"dem"`, ...).
+    pub method: &'static str,
+    /// The mapped position of every input vertex, in input order (z = 0 for planar maps).
+    pub positions: Vec<[f64; 3]>,
+    /// The initial map (after initialization, before density equalization), same scale as
+    /// `positions`; metrics compare the two.
+    pub initial: Vec<[f64; 3]>,
+    /// True unless the iteration limit ran out.
+    pub converged: bool,
+    /// Why the iteration stopped.
+    pub stop_reason: StopReason,
+    /// Number of iterations done.
+    pub iterations: usize,
+    /// The stopping quantity after each iteration.
+    pub history: Vec<f64>,
+    /// Seconds spent in the initialization.
+    pub time_init: f64,
+    /// Seconds spent in the density-equalizing iteration.
+    pub time_map: f64,
+    /// Remarks worth telling the user (e.g. an initial map fell back to Tutte).
+    pub notes: Vec<String>,
+}
+
+/// A progress callback; the CLI draws a bar with it, tests pass `&mut |_| {}`.
+pub type ProgressFn<'a> = &'a mut dyn FnMut(Progress);

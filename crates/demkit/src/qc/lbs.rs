@@ -43,7 +43,7 @@ pub fn generalized_laplacian_weights(source: &[[f64; 3]], faces: &[[u32; 3]], mu
 /// LBS with a fixed set of Dirichlet vertices on a fixed connectivity: the sparsity pattern and
 /// its symbolic Cholesky analysis are computed once, each [`solve`](Self::solve) refactors
 /// numerically.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct LinearBeltramiSolver {
     faces: Vec<[u32; 3]>,
     fixed: Vec<bool>,

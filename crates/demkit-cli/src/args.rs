@@ -1,0 +1,210 @@
+//! Command-line arguments (DESIGN.md, "Command line").
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+
+/// demkit: density-equalizing maps (area-preserving parameterizations, cartograms, lenses)
+/// of triangulated surfaces.
+#[derive(Parser, Debug)]
+#[command(name = "demkit", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Print a mesh's counts, topology and validation findings.
+    Info(InfoArgs),
+    /// Compute a density-equalizing map and write the mapped mesh.
+    Map(MapArgs),
+    /// Write a synthetic mesh (grids, polygons, height fields, spheres, tori, ...).
+    Generate(GenerateArgs),
+}
+
+/// `demkit info MESH [--json]`
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    /// The mesh (.obj, .ply, .off, .stl).
+    pub mesh: PathBuf,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The mapping methods.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Pick by topology (disk → dem, holes → deq, sphere → sdem, torus → tdem).
+    Auto,
+    /// Density-equalizing map of a disk onto the plane with free boundary (DEM).
+    Dem,
+    /// DEM onto a prescribed shape (see --shape).
+    DemShape,
+    /// Spherical DEM of a genus-0 closed surface.
+    Sdem,
+    /// Landmark-aligned spherical DEM.
+    Lsdem,
+    /// Density-equalizing quasiconformal map onto a circle domain.
+    Deq,
+    /// Landmark-matching DEQ.
+    Ldeq,
+    /// Toroidal DEM of a genus-one surface.
+    Tdem,
+    /// Spherical conformal parameterization (the SDEM initial map).
+    SphericalConformal,
+    /// Conformal map onto a circle domain (the DEQ initial map).
+    CircleConformal,
+}
+
+impl Method {
+    /// The method's name as typed on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Auto => "auto",
+            Method::Dem => "dem",
+            Method::DemShape => "dem-shape",
+            Method::Sdem => "sdem",
+            Method::Lsdem => "lsdem",
+            Method::Deq => "deq",
+            Method::Ldeq => "ldeq",
+            Method::Tdem => "tdem",
+            Method::SphericalConformal => "spherical-conformal",
+            Method::CircleConformal => "circle-conformal",
+        }
+    }
+}
+
+/// `demkit map MESH --out OUT [...]`
+#[derive(Args, Debug)]
+pub struct MapArgs {
+    /// The input mesh (.obj, .ply, .off, .stl).
+    pub mesh: PathBuf,
+    /// Output mesh (.obj or .ply): same faces and vertex order, mapped coordinates.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// The method.
+    #[arg(long, value_enum, default_value_t = Method::Auto)]
+    pub method: Method,
+    /// `area`, `uniform`, a FILE with one value per face, or an expression of x, y, z, area.
+    #[arg(long, default_value = "area")]
+    pub population: String,
+    /// Landmark file: `vertex_index target_x target_y [target_z]` per line.
+    #[arg(long)]
+    pub landmarks: Option<PathBuf>,
+    /// Write the JSON report here.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// Target shape for dem-shape: disk, square, rectangle:W:H, ellipse:A:B.
+    #[arg(long)]
+    pub shape: Option<String>,
+    /// Target torus radii R:r (tdem).
+    #[arg(long)]
+    pub torus: Option<String>,
+    /// Energy weight α (lsdem, deq).
+    #[arg(long)]
+    pub alpha: Option<f64>,
+    /// Energy weight β (lsdem, deq).
+    #[arg(long)]
+    pub beta: Option<f64>,
+    /// Energy weight γ (lsdem).
+    #[arg(long)]
+    pub gamma: Option<f64>,
+    /// Time step (default: the method's own choice).
+    #[arg(long)]
+    pub dt: Option<f64>,
+    /// Stopping tolerance (default: the method's paper value).
+    #[arg(long)]
+    pub epsilon: Option<f64>,
+    /// Iteration limit (default: the method's own).
+    #[arg(long)]
+    pub max_iter: Option<usize>,
+    /// No progress bar and no warnings.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `demkit generate KIND ... --out FILE`
+#[derive(Args, Debug)]
+pub struct GenerateArgs {
+    #[command(subcommand)]
+    pub kind: GenerateKind,
+    /// Output mesh (.obj or .ply).
+    #[arg(long, global = true)]
+    pub out: Option<PathBuf>,
+}
+
+/// The generated mesh kinds.
+#[derive(Subcommand, Debug)]
+pub enum GenerateKind {
+    /// A planar grid of nx × ny squares, each split into two triangles, on [0,W]×[0,H].
+    Grid {
+        #[arg(long, default_value_t = 99)]
+        nx: usize,
+        #[arg(long, default_value_t = 99)]
+        ny: usize,
+        #[arg(long, default_value_t = 99.0)]
+        width: f64,
+        #[arg(long, default_value_t = 99.0)]
+        height: f64,
+    },
+    /// A regular polygon of circumradius 1 triangulated by concentric rings.
+    Polygon {
+        #[arg(long, default_value_t = 6)]
+        sides: usize,
+        #[arg(long, default_value_t = 32)]
+        rings: usize,
+    },
+    /// MATLAB's peaks surface on [-3,3]², n × n squares.
+    Peaks {
+        #[arg(long, default_value_t = 45)]
+        n: usize,
+    },
+    /// A Gaussian bump on [0,1]², n × n squares.
+    Gaussian {
+        #[arg(long, default_value_t = 72)]
+        n: usize,
+    },
+    /// A planar annulus.
+    Annulus {
+        #[arg(long, default_value_t = 0.4)]
+        inner: f64,
+        #[arg(long, default_value_t = 1.0)]
+        outer: f64,
+        #[arg(long, default_value_t = 12)]
+        radial: usize,
+        #[arg(long, default_value_t = 96)]
+        angular: usize,
+    },
+    /// The unit disk minus circular holes, each given as cx:cy:r.
+    DiskHoles {
+        #[arg(long = "hole", value_name = "CX:CY:R", num_args = 1..)]
+        holes: Vec<String>,
+        #[arg(long, default_value_t = 40)]
+        resolution: usize,
+    },
+    /// A subdivided icosahedron on the unit sphere.
+    Icosphere {
+        #[arg(long, default_value_t = 4)]
+        subdivisions: usize,
+    },
+    /// A latitude/longitude sphere.
+    UvSphere {
+        #[arg(long, default_value_t = 32)]
+        lat: usize,
+        #[arg(long, default_value_t = 64)]
+        lon: usize,
+    },
+    /// A torus with radii R > r.
+    Torus {
+        #[arg(long = "R", default_value_t = 2.0)]
+        big_r: f64,
+        #[arg(long = "r", default_value_t = 1.0)]
+        small_r: f64,
+        #[arg(long, default_value_t = 64)]
+        major: usize,
+        #[arg(long, default_value_t = 32)]
+        minor: usize,
+    },
+}

@@ -1,0 +1,171 @@
+//! `demkit map`: read, validate, map, write the mesh and the report.
+
+use crate::args::{MapArgs, Method};
+use crate::progress::Bar;
+use crate::report::{InputSummary, Report};
+use crate::Failure;
+use demkit::init::shape::Shape;
+use demkit::mesh::topology::topology;
+use demkit::metrics::{compute, Domain};
+use demkit::methods::{dem, dem_shape};
+use demkit::population::{face_populations, PopulationSpec};
+use demkit::TriMesh;
+use std::path::Path;
+use std::time::Instant;
+
+/// Only .obj and .ply are written.
+pub fn check_output_extension(out: &Path) -> Result<(), Failure> {
+    let ext = out.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("obj") | Some("ply") => Ok(()),
+        _ => Err(Failure::input(format!(
+            "cannot write '{}': output meshes must end in .obj or .ply",
+            out.display()
+        ))),
+    }
+}
+
+/// Runs the map command; returns the exit code (0, or 3 when not converged).
+pub fn run(a: &MapArgs) -> Result<u8, Failure> {
+    let t0 = Instant::now();
+    check_output_extension(&a.out)?;
+    let mesh = demkit::io::read_mesh(&a.mesh)?;
+    let (mesh, warnings) = demkit::mesh::validate::validate(mesh)?;
+    if !a.quiet {
+        for w in &warnings {
+            eprintln!("warning: {w}");
+        }
+    }
+    let topo = topology(&mesh);
+    let method = resolve_method(a, topo.boundary_loops.len(), topo.genus)?;
+    warn_unused(a, method);
+    let population = face_populations(&PopulationSpec::parse(&a.population), &mesh)?;
+
+    let bar = Bar::new(a.quiet, method.name());
+    let mut progress = |p| bar.update(p);
+    let result = match method {
+        Method::Dem => {
+            let mut c = dem::Config::default();
+            apply_common(&mut c.epsilon, &mut c.max_iter, &mut c.dt, a);
+            dem::run(&mesh, &population, &c, &mut progress)
+        }
+        Method::DemShape => {
+            let shape = match &a.shape {
+                Some(s) => Shape::parse(s)?,
+                None => Shape::Disk,
+            };
+            let mut c = dem_shape::Config { shape, ..Default::default() };
+            apply_common(&mut c.epsilon, &mut c.max_iter, &mut c.dt, a);
+            dem_shape::run(&mesh, &population, &c, &mut progress)
+        }
+        other => {
+            bar.finish();
+            return Err(not_implemented(other));
+        }
+    };
+    bar.finish();
+    let result = result?;
+    let out_mesh = TriMesh::new(result.positions.clone(), mesh.faces.clone());
+    demkit::io::write_mesh(&a.out, &out_mesh)?;
+    let metrics = compute(&mesh, &population, &result.initial, &result.positions, Domain::Plane, None);
+    if let Some(path) = &a.report {
+        let input = InputSummary {
+            vertices: mesh.n_vertices(),
+            faces: mesh.n_faces(),
+            boundaries: topo.boundary_loops.len(),
+            genus: topo.genus,
+        };
+        let report = Report::new(&result, input, &metrics, t0.elapsed().as_secs_f64());
+        let text = serde_json::to_string_pretty(&report).map_err(|e| Failure { code: 1, message: e.to_string() })?;
+        std::fs::write(path, text + "\n")
+            .map_err(|e| Failure::input(format!("{}: {e}", path.display())))?;
+    }
+    if !a.quiet {
+        for n in &result.notes {
+            eprintln!("note: {n}");
+        }
+        eprintln!(
+            "{}: {} iterations ({}), density error {:.4}, {} flipped, {:.2} s",
+            result.method,
+            result.iterations,
+            result.stop_reason.as_str(),
+            metrics.density_error_mean,
+            metrics.flipped_triangles,
+            t0.elapsed().as_secs_f64()
+        );
+    }
+    if metrics.flipped_triangles > 0 {
+        eprintln!("error: the map has {} flipped triangles", metrics.flipped_triangles);
+        return Ok(1);
+    }
+    Ok(if result.converged { 0 } else { 3 })
+}
+
+fn apply_common(epsilon: &mut f64, max_iter: &mut usize, dt: &mut Option<f64>, a: &MapArgs) {
+    if let Some(e) = a.epsilon {
+        *epsilon = e;
+    }
+    if let Some(m) = a.max_iter {
+        *max_iter = m;
+    }
+    if a.dt.is_some() {
+        *dt = a.dt;
+    }
+}
+
+/// `--method auto` by topology; explicit methods are checked by the methods themselves.
+fn resolve_method(a: &MapArgs, boundaries: usize, genus: i64) -> Result<Method, Failure> {
+    if a.method != Method::Auto {
+        return Ok(a.method);
+    }
+    let landmarks = a.landmarks.is_some();
+    Ok(match (boundaries, genus, landmarks) {
+        (1, 0, false) => Method::Dem,
+        (1, 0, true) => Method::Ldeq,
+        (b, 0, false) if b > 1 => Method::Deq,
+        (b, 0, true) if b > 1 => Method::Ldeq,
+        (0, 0, false) => Method::Sdem,
+        (0, 0, true) => Method::Lsdem,
+        (0, 1, _) => Method::Tdem,
+        _ => {
+            return Err(Failure::input(format!(
+                "no method handles a surface with {boundaries} boundary loops and genus {genus}"
+            )))
+        }
+    })
+}
+
+fn not_implemented(m: Method) -> Failure {
+    let what = match m {
+        Method::Sdem | Method::Lsdem | Method::SphericalConformal => "genus-0 closed surfaces",
+        Method::Deq | Method::Ldeq | Method::CircleConformal => "surfaces with holes (and disks with landmarks)",
+        Method::Tdem => "genus-one closed surfaces",
+        _ => "this input",
+    };
+    Failure::input(format!(
+        "this mesh needs --method {} (for {what}), which this version of demkit does not implement yet; \
+         disks are mapped with --method dem or dem-shape",
+        m.name()
+    ))
+}
+
+fn warn_unused(a: &MapArgs, m: Method) {
+    if a.quiet {
+        return;
+    }
+    let unused: Vec<&str> = [
+        (a.landmarks.is_some(), "--landmarks"),
+        (a.torus.is_some(), "--torus"),
+        (a.alpha.is_some(), "--alpha"),
+        (a.beta.is_some(), "--beta"),
+        (a.gamma.is_some(), "--gamma"),
+        (a.shape.is_some() && m != Method::DemShape, "--shape"),
+    ]
+    .iter()
+    .filter(|(set, _)| *set)
+    .map(|(_, n)| *n)
+    .collect();
+    if !unused.is_empty() && matches!(m, Method::Dem | Method::DemShape) {
+        eprintln!("warning: {} not used by --method {}", unused.join(", "), m.name());
+    }
+}

@@ -1,0 +1,190 @@
+//! DEM: density-equalizing maps of simply connected open surfaces (Choi & Rycroft 2018,
+//! Algorithm 5), with recoupling and a bijectivity safeguard (see `planar_diffusion`).
+//!
+//! Pipeline: planar input is its own initial map; otherwise the boundary is flattened by
+//! curvature (Alg. 1) and the interior by the locally authalic map (Alg. 3, falling back to
+//! Tutte's map, Alg. 2, when it overlaps). The map is normalised, surrounded by the reflection
+//! sea (Alg. 4), and deformed by density diffusion until the density is equal; the sea is
+//! dropped and the result rescaled to the input's total area.
+
+use super::disk_input::{default_time_step, disk_boundary};
+use super::planar_diffusion::{self, Problem};
+use super::{MapResult, ProgressFn};
+use crate::fem::VertexFaces;
+use crate::geometry::{face_areas, planar_frame, signed_areas_2d};
+use crate::init::boundary_flattening::curvature_flatten_boundary;
+use crate::init::sea::build_sea;
+use crate::init::tutte::{flatten_with_fallback, InteriorWeights};
+use crate::mesh::topology::topology;
+use crate::{Error, Result, TriMesh};
+use std::time::Instant;
+
+/// DEM parameters; `Default` gives the paper's defaults.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Config {
+    /// Stop when sd/mean of the (recoupled) vertex density is below ε (paper: 1e-3).
+    pub epsilon: f64,
+    /// Iteration limit.
+    pub max_iter: usize,
+    /// Time step; `None` uses (4.39).
+    pub dt: Option<f64>,
+    /// Interior weights of the initial flattening of a non-planar surface (Alg. 2 or 3).
+    pub initial: InteriorWeights,
+    /// Sea truncation radius η (Alg. 4; paper: 5).
+    pub eta: f64,
+    /// Beltrami truncation parameter δ (SDEM (3.19); 0.1).
+    pub delta: f64,
+    /// Iterations without improvement before stopping as stationary.
+    pub patience: usize,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Self {
+            epsilon: 1e-3,
+            max_iter: 500,
+            dt: None,
+            initial: InteriorWeights::Authalic { lambda: 1.0 },
+            eta: 5.0,
+            delta: 0.1,
+            patience: 5,
+        }
+    }
+}
+
+/// Computes the DEM of `mesh` (a topological disk) with one `population` value per face.
+pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: ProgressFn) -> Result<MapResult> {
+    check_config(config)?;
+    let t0 = Instant::now();
+    let boundary = disk_boundary(mesh, population, "dem")?;
+    let faces = &mesh.faces;
+    let mut notes = Vec::new();
+
+    // Alg. 5 lines 1–4: the initial flattening.
+    let initial: Vec<[f64; 3]> = match planar_frame(&mesh.positions, faces, 1e-9) {
+        Some(frame) => mesh.positions.iter().map(|&p| frame.project(p)).collect(),
+        None => {
+            let bp = curvature_flatten_boundary(&mesh.positions, &boundary);
+            let (map, used) = flatten_with_fallback(&mesh.positions, faces, &boundary, &bp, config.initial)?;
+            if used != config.initial {
+                notes.push("the locally authalic initial map overlapped; used Tutte's map instead".to_string());
+            }
+            map
+        }
+    };
+    if signed_areas_2d(&initial, faces).iter().any(|&a| !(a > 0.0)) {
+        return Err(Error::Numerical("the initial flattening has flipped triangles".into()));
+    }
+
+    // Normalise: area centroid at the origin, total area 1 (scale-free iteration).
+    let a0 = face_areas(&initial, faces);
+    let area0: f64 = a0.iter().sum();
+    let centroid = area_centroid(&initial, faces, &a0);
+    let s = 1.0 / area0.sqrt();
+    let roi: Vec<[f64; 2]> = initial.iter().map(|p| [(p[0] - centroid[0]) * s, (p[1] - centroid[1]) * s]).collect();
+
+    // Alg. 4: the sea.
+    let sea = build_sea(&roi, faces, &boundary, config.eta)?;
+    let r: Vec<[f64; 3]> = sea.positions.iter().map(|p| [p[0], p[1], 0.0]).collect();
+    let areas = face_areas(&r, &sea.faces);
+    let total_pop: f64 = population.iter().sum();
+    let roi_area: f64 = areas[..sea.n_roi_faces].iter().sum();
+    let mean_density = total_pop / roi_area;
+    let mut ext_pop = population.to_vec();
+    ext_pop.extend(areas[sea.n_roi_faces..].iter().map(|a| mean_density * a));
+
+    // δt from (4.39) on the initial ROI density.
+    let dt = match config.dt {
+        Some(dt) => dt,
+        None => {
+            let rho_f: Vec<f64> = population.iter().zip(&areas).map(|(p, a)| p / a).collect();
+            let w = VertexFaces::new(sea.n_roi_vertices, faces);
+            let rho_v = w.apply(&areas[..sea.n_roi_faces], &rho_f);
+            default_time_step(&rho_v, roi_area)
+        }
+    };
+    let ext_mesh = TriMesh::new(r.clone(), sea.faces.clone());
+    let mut fixed = vec![false; r.len()];
+    for l in topology(&ext_mesh).boundary_loops {
+        for v in l {
+            fixed[v as usize] = true;
+        }
+    }
+    let time_init = t0.elapsed().as_secs_f64();
+
+    let t1 = Instant::now();
+    let problem = Problem {
+        faces: &sea.faces,
+        population: ext_pop,
+        n_roi_vertices: sea.n_roi_vertices,
+        n_roi_faces: sea.n_roi_faces,
+        fixed,
+        shape: None,
+        dt,
+        adaptive_dt: config.dt.is_none(),
+        epsilon: config.epsilon,
+        max_iter: config.max_iter,
+        delta: config.delta,
+        patience: config.patience,
+    };
+    let out = planar_diffusion::run(&problem, r, progress)?;
+
+    // Alg. 5 line 18: drop the sea, rescale to the input's total area, keep the initial centroid.
+    let result: Vec<[f64; 3]> = out.positions[..sea.n_roi_vertices].to_vec();
+    let a1 = face_areas(&result, faces);
+    let c1 = area_centroid(&result, faces, &a1);
+    let target_area: f64 = face_areas(&mesh.positions, faces).iter().sum();
+    let k = (target_area / a1.iter().sum::<f64>()).sqrt();
+    let positions = result
+        .iter()
+        .map(|p| [centroid[0] + (p[0] - c1[0]) * k, centroid[1] + (p[1] - c1[1]) * k, 0.0])
+        .collect();
+    Ok(MapResult {
+        method: "dem",
+        positions,
+        initial,
+        converged: out.stop_reason != super::StopReason::MaxIter,
+        stop_reason: out.stop_reason,
+        iterations: out.iterations,
+        history: out.history,
+        time_init,
+        time_map: t1.elapsed().as_secs_f64(),
+        notes,
+    })
+}
+
+pub(crate) fn check_config_values(epsilon: f64, dt: Option<f64>, max_iter: usize) -> Result<()> {
+    if !(epsilon > 0.0 && epsilon.is_finite()) {
+        return Err(Error::Argument(format!("--epsilon must be positive, got {epsilon}")));
+    }
+    if let Some(dt) = dt {
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(Error::Argument(format!("--dt must be positive, got {dt}")));
+        }
+    }
+    if max_iter == 0 {
+        return Err(Error::Argument("--max-iter must be at least 1".into()));
+    }
+    Ok(())
+}
+
+fn check_config(c: &Config) -> Result<()> {
+    check_config_values(c.epsilon, c.dt, c.max_iter)?;
+    if !(c.eta > 1.0) {
+        return Err(Error::Argument(format!("sea radius η must exceed 1, got {}", c.eta)));
+    }
+    Ok(())
+}
+
+/// Area-weighted centroid of a planar map.
+pub(crate) fn area_centroid(map: &[[f64; 3]], faces: &[[u32; 3]], areas: &[f64]) -> [f64; 2] {
+    let (mut cx, mut cy, mut s) = (0.0, 0.0, 0.0);
+    for (f, &a) in faces.iter().zip(areas) {
+        for &v in f {
+            cx += a * map[v as usize][0] / 3.0;
+            cy += a * map[v as usize][1] / 3.0;
+        }
+        s += a;
+    }
+    [cx / s, cy / s]
+}
