@@ -1,16 +1,17 @@
-//! Prescribed target shapes for the shape-prescribed DEM (DEM paper, section 4.4; the
-//! `--shape disk|square|rectangle:W:H|ellipse:A:B` option of the command line).
+//! Prescribed target shapes for the shape-prescribed DEM (DEM paper, section 4.3, Algorithm 6;
+//! the `--shape disk|square|rectangle:W:H|ellipse:A:B` option of the command line).
 //!
 //! A shape is a convex closed curve centred at the origin. Boundary vertices are placed on it by
-//! arclength ([`Shape::boundary_positions`], as for the arclength-parameterized boundary of
-//! Algorithm 1) and points are pulled back onto it by nearest-point projection
-//! ([`Shape::project`]), which keeps the boundary on the prescribed shape during the iterations.
+//! arclength ([`Shape::boundary_positions`]: the initial map with an arclength-parameterized
+//! boundary constraint, Algorithm 6 line 1) and pulled back onto it by nearest-point projection
+//! after every iteration ([`Shape::project`], Algorithm 6 line 12).
 
 use std::f64::consts::PI;
 
 use crate::{Error, Result};
 
-/// A target domain, bounded by a convex closed curve centred at the origin.
+/// A target domain of the shape-prescribed DEM (DEM paper, Algorithm 6), bounded by a convex
+/// closed curve centred at the origin.
 ///
 /// Conventions: `Disk` is the unit disk; `Square` has side 2 (corners at (±1, ±1));
 /// `Rectangle { width, height }` is `[−w/2, w/2] × [−h/2, h/2]`; `Ellipse { a, b }` has semi-axes
@@ -40,7 +41,8 @@ pub enum Shape {
 const VALID: &str = "valid shapes: disk, square, rectangle:W:H, ellipse:A:B (W, H, A, B > 0)";
 
 impl Shape {
-    /// Parses the command line's shape syntax (DESIGN, `--shape`): `disk`, `square`,
+    /// Parses the prescribed boundary shape of Algorithm 6 from the command line's syntax
+    /// (DESIGN, `--shape`): `disk`, `square`,
     /// `rectangle:W:H` or `ellipse:A:B`, with positive finite numbers; names are case-insensitive.
     /// Anything else is an [`Error::Argument`] naming the problem and the valid forms.
     pub fn parse(s: &str) -> Result<Shape> {
@@ -106,8 +108,9 @@ impl Shape {
         }
     }
 
-    /// Length of the boundary curve (for the ellipse, the complete elliptic integral computed by
-    /// Gauss–Legendre quadrature, accurate to about 1e-14 relative).
+    /// Length of the boundary curve, for the arclength parameterization of Algorithm 6 line 1
+    /// (for the ellipse, the complete elliptic integral computed by Gauss–Legendre quadrature,
+    /// accurate to about 1e-14 relative).
     pub fn perimeter(&self) -> f64 {
         match *self {
             Shape::Disk => 2.0 * PI,
@@ -121,7 +124,7 @@ impl Shape {
 
     /// The point at arclength fraction `t` of the boundary, counter-clockwise from the positive
     /// x axis (`t` is taken modulo 1). For the ellipse this is the true arclength, not the angle
-    /// parameter. Places boundary vertices like the arclength parameterization of Algorithm 1.
+    /// parameter. This is the arclength-parameterized boundary of Algorithm 6, line 1.
     pub fn point_at(&self, t: f64) -> [f64; 2] {
         match *self {
             Shape::Ellipse { a, b } => EllipseArc::new(a, b).point_at(t),
@@ -165,7 +168,8 @@ impl Shape {
     /// lengths of the loop (`loop_lengths[k]` from vertex `k` to `k + 1`, the last one closing
     /// the loop), vertex `k` goes to [`Shape::point_at`] of (Σ_{i<k} L_i)/(Σ L_i), so vertex 0 is
     /// on the positive x axis and the loop runs counter-clockwise. Zero or non-finite total
-    /// length gives equal spacing.
+    /// length gives equal spacing. This is the arclength-parameterized boundary constraint of the
+    /// initial map in Algorithm 6, line 1 (DEM paper, sections 4.3 and 5).
     pub fn boundary_positions(&self, loop_lengths: &[f64]) -> Vec<[f64; 2]> {
         let n = loop_lengths.len();
         let total: f64 = loop_lengths.iter().sum();
@@ -195,7 +199,8 @@ impl Shape {
     /// Disk: `p/|p|` (the origin goes to (1, 0)). Rectangle and square: the nearest point of the
     /// four sides. Ellipse: the true nearest point, by a bisection on the Lagrange multiplier
     /// (Eberly, "Distance from a point to an ellipse"), accurate to about 1e-15 relative.
-    /// Points on the curve are fixed points, so the projection is idempotent.
+    /// Points on the curve are fixed points, so the projection is idempotent. This is the
+    /// projection of the boundary vertices onto the prescribed shape, Algorithm 6, line 12.
     pub fn project(&self, p: [f64; 2]) -> [f64; 2] {
         match *self {
             Shape::Disk => {

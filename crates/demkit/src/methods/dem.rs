@@ -13,9 +13,8 @@ use super::{MapResult, ProgressFn};
 use crate::fem::VertexFaces;
 use crate::geometry::{face_areas, planar_frame, signed_areas_2d};
 use crate::init::boundary_flattening::curvature_flatten_boundary;
-use crate::init::sea::build_sea;
+use crate::init::sea::build_sea_with_radius;
 use crate::init::tutte::{flatten_with_fallback, InteriorWeights};
-use crate::mesh::topology::topology;
 use crate::{Error, Result, TriMesh};
 use std::time::Instant;
 
@@ -32,8 +31,9 @@ pub struct Config {
     pub initial: InteriorWeights,
     /// Sea truncation radius η (Alg. 4; paper: 5).
     pub eta: f64,
-    /// Beltrami truncation parameter δ (SDEM (3.19); 0.1).
-    pub delta: f64,
+    /// Radius of the ROI inside the unit disk when the sea is built (Alg. 4 step 1 leaves it
+    /// open); 0.85 keeps the sea about 3× the ROI's size.
+    pub roi_radius: f64,
     /// Iterations without improvement before stopping as stationary.
     pub patience: usize,
 }
@@ -46,7 +46,7 @@ impl Default for Config {
             dt: None,
             initial: InteriorWeights::Authalic { lambda: 1.0 },
             eta: 5.0,
-            delta: 0.1,
+            roi_radius: 0.85,
             patience: 5,
         }
     }
@@ -84,7 +84,7 @@ pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: Progre
     let roi: Vec<[f64; 2]> = initial.iter().map(|p| [(p[0] - centroid[0]) * s, (p[1] - centroid[1]) * s]).collect();
 
     // Alg. 4: the sea.
-    let sea = build_sea(&roi, faces, &boundary, config.eta)?;
+    let sea = build_sea_with_radius(&roi, faces, &boundary, config.eta, config.roi_radius)?;
     let r: Vec<[f64; 3]> = sea.positions.iter().map(|p| [p[0], p[1], 0.0]).collect();
     let areas = face_areas(&r, &sea.faces);
     let total_pop: f64 = population.iter().sum();
@@ -103,13 +103,6 @@ pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: Progre
             default_time_step(&rho_v, roi_area)
         }
     };
-    let ext_mesh = TriMesh::new(r.clone(), sea.faces.clone());
-    let mut fixed = vec![false; r.len()];
-    for l in topology(&ext_mesh).boundary_loops {
-        for v in l {
-            fixed[v as usize] = true;
-        }
-    }
     let time_init = t0.elapsed().as_secs_f64();
 
     let t1 = Instant::now();
@@ -118,13 +111,11 @@ pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: Progre
         population: ext_pop,
         n_roi_vertices: sea.n_roi_vertices,
         n_roi_faces: sea.n_roi_faces,
-        fixed,
         shape: None,
         dt,
         adaptive_dt: config.dt.is_none(),
         epsilon: config.epsilon,
         max_iter: config.max_iter,
-        delta: config.delta,
         patience: config.patience,
     };
     let out = planar_diffusion::run(&problem, r, progress)?;

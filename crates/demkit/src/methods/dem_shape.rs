@@ -26,15 +26,13 @@ pub struct Config {
     pub max_iter: usize,
     /// Time step; `None` uses (4.39).
     pub dt: Option<f64>,
-    /// Beltrami truncation parameter δ (0.1).
-    pub delta: f64,
     /// Iterations without improvement before stopping as stationary.
     pub patience: usize,
 }
 
 impl Default for Config {
     fn default() -> Self {
-        Self { shape: Shape::Disk, epsilon: 1e-3, max_iter: 500, dt: None, delta: 0.1, patience: 5 }
+        Self { shape: Shape::Disk, epsilon: 1e-3, max_iter: 500, dt: None, patience: 5 }
     }
 }
 
@@ -63,10 +61,6 @@ pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: Progre
             default_time_step(&rho_v, area)
         }
     };
-    let mut fixed = vec![false; mesh.n_vertices()];
-    for &v in &boundary {
-        fixed[v as usize] = true;
-    }
     let time_init = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let problem = Problem {
@@ -74,13 +68,11 @@ pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: Progre
         population: population.to_vec(),
         n_roi_vertices: mesh.n_vertices(),
         n_roi_faces: mesh.n_faces(),
-        fixed,
         shape: Some((boundary, config.shape)),
         dt,
         adaptive_dt: config.dt.is_none(),
         epsilon: config.epsilon,
         max_iter: config.max_iter,
-        delta: config.delta,
         patience: config.patience,
     };
     let out = planar_diffusion::run(&problem, initial.clone(), progress)?;

@@ -12,6 +12,7 @@ use crate::fem::{cotangent_weights, face_gradient, lumped_mass, VertexFaces};
 use crate::geometry::{face_areas, signed_area_2d};
 use crate::init::shape::Shape;
 use crate::linalg::{CachedCholesky, StiffnessPattern};
+use rayon::prelude::*;
 use crate::Result;
 
 /// A planar diffusion problem: an (extended) triangulation whose first `n_roi_faces` faces and
@@ -25,8 +26,6 @@ pub(crate) struct Problem<'a> {
     pub n_roi_vertices: usize,
     /// Number of region-of-interest faces (they come first).
     pub n_roi_faces: usize,
-    /// Vertices held fixed by the Beltrami correction (the outer boundary).
-    pub fixed: Vec<bool>,
     /// Boundary vertices projected onto a prescribed shape after every step (Alg. 6 line 12).
     pub shape: Option<(Vec<u32>, Shape)>,
     /// Time step δt (the smallest one when adaptive).
@@ -37,8 +36,6 @@ pub(crate) struct Problem<'a> {
     pub epsilon: f64,
     /// Iteration limit.
     pub max_iter: usize,
-    /// Truncation parameter δ of (3.19).
-    pub delta: f64,
     /// Iterations without improvement of the density error before stopping as stationary.
     pub patience: usize,
 }
@@ -128,16 +125,12 @@ pub(crate) fn run(problem: &Problem, mut r: Vec<[f64; 3]>, progress: &mut dyn Fn
         // Gradient (4.37), W^FV (4.31), velocity −∇ρ/ρ (3.4).
         let grad_f = face_gradient(&r, faces, &rho);
         let grad_v = incidence_all.apply_vec(&areas, &grad_f);
-        let mut step: Vec<[f64; 2]> = grad_v
+        let step: Vec<[f64; 2]> = grad_v
             .iter()
             .zip(&rho)
             .map(|(g, p)| [-dt * g[0] / p, -dt * g[1] / p])
             .collect();
-        let t_step = std::time::Instant::now();
-        safe_update(problem, &mut r, &mut step);
-        if std::env::var_os("DEMKIT_TRACE").is_some() {
-            eprintln!("trace: it {it} n={n} nnz={} dt={dt:.3e} step {:.3}s", pattern.nnz(), t_step.elapsed().as_secs_f64());
-        }
+        safe_update(problem, &mut r, &step);
 
         let (m2, a2, rv2) = measure(&r);
         (m, areas, rho_v) = (m2, a2, rv2);
@@ -207,83 +200,22 @@ pub(crate) fn collapse_time(p: [[f64; 3]; 3], s: [[f64; 2]; 3]) -> f64 {
     [t1, t2].into_iter().filter(|&t| t > 0.0).fold(f64::INFINITY, f64::min)
 }
 
-/// Shortens `step` locally so that moving every vertex by its (shortened) step flips no
-/// triangle: the vertices of a face that would collapse within the step get their steps scaled
-/// to half the face's collapse time, repeatedly; if that does not settle, the whole step is
-/// scaled uniformly to half the earliest collapse time (uniform scaling of a linear motion
-/// keeps every face positive). Returns the number of vertices whose step was shortened.
-fn limit_step(r: &[[f64; 3]], faces: &[[u32; 3]], step: &mut [[f64; 2]]) -> usize {
-    let n = r.len();
-    let mut tau = vec![1.0f64; n];
-    let face_time = |f: &[u32; 3], tau: &[f64]| {
-        let p = f.map(|v| r[v as usize]);
-        let s = f.map(|v| {
-            let t = tau[v as usize];
-            [t * step[v as usize][0], t * step[v as usize][1]]
-        });
-        collapse_time(p, s)
-    };
-    let mut settled = false;
-    for _ in 0..30 {
-        let mut changed = false;
-        for f in faces {
-            let t = face_time(f, &tau);
-            if t <= 1.0 {
-                changed = true;
-                for &v in f {
-                    tau[v as usize] *= 0.5 * t;
-                }
-            }
-        }
-        if !changed {
-            settled = true;
-            break;
-        }
-    }
-    if std::env::var_os("DEMKIT_TRACE").is_some() {
-        eprintln!("trace: limiter settled={settled} shortened={}", tau.iter().filter(|&&t| t < 1.0).count());
-    }
-    if !settled {
-        let t_min = faces.iter().map(|f| face_time(f, &vec![1.0; n])).fold(f64::INFINITY, f64::min);
-        let t = (0.5 * t_min).min(1.0);
-        tau.iter_mut().for_each(|x| *x = t);
-    }
-    let mut shortened = 0;
-    for (s, &t) in step.iter_mut().zip(&tau) {
-        if t < 1.0 {
-            shortened += 1;
-            *s = [s[0] * t, s[1] * t];
-        }
-    }
-    shortened
-}
-
-/// Moves `r` by `step` without flipping any triangle: the step is shortened locally where a
-/// triangle would collapse ([`limit_step`]); with a prescribed shape, boundary vertices are
-/// projected back onto it and, should the projection flip a triangle, the step is halved
-/// (up to 12 times) and otherwise the map stays where it is.
-fn safe_update(problem: &Problem, r: &mut Vec<[f64; 3]>, step: &mut [[f64; 2]]) {
+/// Moves `r` by `step` without flipping any triangle, keeping a margin: the step is scaled
+/// uniformly to `τ = min(1, t/2)`, where `t` is the earliest time at which a triangle moving
+/// linearly along the step would collapse ([`collapse_time`]); a uniform scaling of a linear
+/// motion keeps every triangle positive, and the margin keeps triangles from being squeezed
+/// almost flat in one step. With a prescribed shape the boundary vertices are projected back
+/// onto it, halving τ while that flips a triangle; if nothing works the map stays put.
+fn safe_update(problem: &Problem, r: &mut Vec<[f64; 3]>, step: &[[f64; 2]]) {
     let faces = problem.faces;
-    if std::env::var_os("DEMKIT_UNIFORM").is_some() {
-        let t_min = faces
-            .iter()
-            .map(|f| collapse_time(f.map(|v| r[v as usize]), f.map(|v| step[v as usize])))
-            .fold(f64::INFINITY, f64::min);
-        let t = (0.5 * t_min).min(1.0);
-        let (fi, _) = faces.iter().enumerate().map(|(i, f)| (i, collapse_time(f.map(|v| r[v as usize]), f.map(|v| step[v as usize])))).fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
-        let f = faces[fi];
-        eprintln!("trace: uniform t={t:.3e} face {fi} (roi {}) verts {:?} area {:.3e} steps {:?}", fi < problem.n_roi_faces, f, signed_area_2d(r[f[0] as usize], r[f[1] as usize], r[f[2] as usize]), f.map(|v| step[v as usize]));
-        step.iter_mut().for_each(|s| *s = [s[0] * t, s[1] * t]);
-    } else {
-        limit_step(r, faces, step);
-    }
-    let mut tau = 1.0;
+    let t_min = faces
+        .par_iter()
+        .map(|f| collapse_time(f.map(|v| r[v as usize]), f.map(|v| step[v as usize])))
+        .reduce(|| f64::INFINITY, f64::min);
+    let mut tau = (0.5 * t_min).min(1.0);
     for _ in 0..12 {
-        let mut proposal: Vec<[f64; 3]> = r
-            .iter()
-            .zip(step.iter())
-            .map(|(p, s)| [p[0] + tau * s[0], p[1] + tau * s[1], 0.0])
-            .collect();
+        let mut proposal: Vec<[f64; 3]> =
+            r.iter().zip(step).map(|(p, s)| [p[0] + tau * s[0], p[1] + tau * s[1], 0.0]).collect();
         project_shape(problem, &mut proposal);
         if !has_flip(&proposal, faces) {
             *r = proposal;
@@ -309,18 +241,32 @@ mod tests {
     }
 
     #[test]
-    fn limited_step_never_flips() {
+    fn uniformly_scaled_step_never_flips() {
         let (pos, faces, _) = crate::generate_fixtures::grid(6, 0.2);
         // A wild step field: every vertex jumps far in a pseudo-random direction.
-        let mut step: Vec<[f64; 2]> = (0..pos.len())
+        let step: Vec<[f64; 2]> = (0..pos.len())
             .map(|i| {
                 let a = (i as f64 * 2.399).sin() * 3.0;
                 [0.4 * a.cos(), 0.4 * a.sin()]
             })
             .collect();
-        let shortened = limit_step(&pos, &faces, &mut step);
-        assert!(shortened > 0);
-        let moved: Vec<[f64; 3]> = pos.iter().zip(&step).map(|(p, s)| [p[0] + s[0], p[1] + s[1], 0.0]).collect();
-        assert!(!has_flip(&moved, &faces));
+        let full: Vec<[f64; 3]> = pos.iter().zip(&step).map(|(p, s)| [p[0] + s[0], p[1] + s[1], 0.0]).collect();
+        assert!(has_flip(&full, &faces), "the test step must be one that flips");
+        let problem = Problem {
+            faces: &faces,
+            population: vec![1.0; faces.len()],
+            n_roi_vertices: pos.len(),
+            n_roi_faces: faces.len(),
+            shape: None,
+            dt: 1.0,
+            adaptive_dt: false,
+            epsilon: 1e-3,
+            max_iter: 1,
+            patience: 1,
+        };
+        let mut r = pos.clone();
+        safe_update(&problem, &mut r, &step);
+        assert!(!has_flip(&r, &faces));
+        assert!(r != pos, "the map must still move");
     }
 }
