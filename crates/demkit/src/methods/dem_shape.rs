@@ -12,7 +12,8 @@ use crate::fem::VertexFaces;
 use crate::geometry::{face_areas, norm, sub};
 use crate::init::shape::Shape;
 use crate::init::tutte::{fixed_boundary_map, InteriorWeights};
-use crate::{Result, TriMesh};
+use crate::geometry::signed_areas_2d;
+use crate::{Error, Result, TriMesh};
 use std::time::Instant;
 
 /// Shape-prescribed DEM parameters.
@@ -49,8 +50,13 @@ pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: Progre
             norm(sub(b, a))
         })
         .collect();
-    let bp = config.shape.boundary_positions(&lengths);
+    let bp = shape_boundary(mesh, &boundary, &lengths, config.shape)?;
     let initial = fixed_boundary_map(&mesh.positions, faces, &boundary, &bp, InteriorWeights::Tutte)?;
+    if let Some(f) = signed_areas_2d(&initial, faces).iter().position(|&a| !(a > 0.0)) {
+        return Err(Error::Numerical(format!(
+            "the initial map onto the shape is degenerate at face {f}; try --shape disk or ellipse"
+        )));
+    }
     let areas = face_areas(&initial, faces);
     let area: f64 = areas.iter().sum();
     let dt = match config.dt {
@@ -88,4 +94,103 @@ pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: Progre
         time_map: t1.elapsed().as_secs_f64(),
         notes: Vec::new(),
     })
+}
+
+/// The corners of a shape with straight sides, counter-clockwise, starting after the positive
+/// x axis (the start of [`Shape::point_at`]); `None` for smooth shapes.
+fn corners(shape: Shape) -> Option<[[f64; 2]; 4]> {
+    let (w, h) = match shape {
+        Shape::Square => (2.0, 2.0),
+        Shape::Rectangle { width, height } => (width, height),
+        Shape::Disk | Shape::Ellipse { .. } => return None,
+    };
+    Some([[w / 2.0, h / 2.0], [-w / 2.0, h / 2.0], [-w / 2.0, -h / 2.0], [w / 2.0, -h / 2.0]])
+}
+
+/// Positions of the boundary loop on the prescribed shape, by arclength (Alg. 6 line 1).
+/// On a shape with corners, a boundary "ear" (a vertex with a single triangle) must sit at a
+/// corner — three consecutive boundary vertices on one straight side would make its triangle
+/// flat — so ears are snapped to the nearest corners, the remaining corners take the boundary
+/// vertices nearest to them by arclength, and each side is laid out by arclength between its
+/// two corner vertices. More ears than corners cannot be mapped bijectively: an error.
+fn shape_boundary(mesh: &TriMesh, boundary: &[u32], lengths: &[f64], shape: Shape) -> Result<Vec<[f64; 2]>> {
+    let Some(corner_points) = corners(shape) else {
+        return Ok(shape.boundary_positions(lengths));
+    };
+    let n = boundary.len();
+    let total: f64 = lengths.iter().sum();
+    let mut frac = Vec::with_capacity(n);
+    let mut acc = 0.0;
+    for l in lengths {
+        frac.push(acc / total);
+        acc += l;
+    }
+    let mut face_count = vec![0usize; mesh.n_vertices()];
+    for f in &mesh.faces {
+        for &v in f {
+            face_count[v as usize] += 1;
+        }
+    }
+    let ears: Vec<usize> = (0..n).filter(|&k| face_count[boundary[k] as usize] == 1).collect();
+    if ears.len() > 4 || n < 8 {
+        return Err(Error::Topology {
+            method: "dem-shape".into(),
+            msg: format!(
+                "the boundary has {} vertices with a single triangle (ears); a shape with straight sides can host at most 4, one per corner: use --shape disk or ellipse",
+                ears.len()
+            ),
+        });
+    }
+    // Arclength fraction of each corner along the shape, from the start of point_at.
+    let perimeter = shape.perimeter();
+    let mut corner_frac = [0.0; 4];
+    let mut prev = shape.point_at(0.0);
+    let mut s = 0.0;
+    for (j, c) in corner_points.iter().enumerate() {
+        s += (c[0] - prev[0]).hypot(c[1] - prev[1]);
+        corner_frac[j] = s / perimeter;
+        prev = *c;
+    }
+    let cyc = |a: f64, b: f64| {
+        let d = (a - b).rem_euclid(1.0);
+        d.min(1.0 - d)
+    };
+    let mut chosen: [Option<usize>; 4] = [None; 4];
+    for &k in &ears {
+        let j = (0..4).min_by(|&a, &b| cyc(frac[k], corner_frac[a]).total_cmp(&cyc(frac[k], corner_frac[b]))).unwrap_or(0);
+        let j = (0..4).map(|d| (j + d) % 4).find(|&j| chosen[j].is_none()).unwrap_or(j);
+        chosen[j] = Some(k);
+    }
+    for j in 0..4 {
+        if chosen[j].is_none() {
+            let k = (0..n)
+                .filter(|k| !chosen.contains(&Some(*k)))
+                .min_by(|&a, &b| cyc(frac[a], corner_frac[j]).total_cmp(&cyc(frac[b], corner_frac[j])))
+                .unwrap_or(0);
+            chosen[j] = Some(k);
+        }
+    }
+    let c: Vec<usize> = chosen.iter().map(|k| k.unwrap_or(0)).collect();
+    // The corner vertices must follow the loop in the corners' cyclic order.
+    let start = c[0];
+    let rel: Vec<usize> = c.iter().map(|&k| (k + n - start) % n).collect();
+    if !(rel[0] < rel[1] && rel[1] < rel[2] && rel[2] < rel[3]) {
+        return Err(Error::Topology {
+            method: "dem-shape".into(),
+            msg: "the boundary's ears cannot be placed at the shape's corners in order: use --shape disk or ellipse".into(),
+        });
+    }
+    let mut out = vec![[0.0; 2]; n];
+    for j in 0..4 {
+        let (a, b) = (corner_points[j], corner_points[(j + 1) % 4]);
+        let (k0, steps) = (c[j], (c[(j + 1) % 4] + n - c[j]) % n);
+        let side: f64 = (0..steps).map(|i| lengths[(k0 + i) % n]).sum();
+        let mut acc = 0.0;
+        for i in 0..steps {
+            let t = if side > 0.0 { acc / side } else { i as f64 / steps as f64 };
+            out[(k0 + i) % n] = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+            acc += lengths[(k0 + i) % n];
+        }
+    }
+    Ok(out)
 }
