@@ -1,7 +1,7 @@
 //! `demkit info`: counts, topology and validation findings of a mesh.
 
-use crate::args::InfoArgs;
 use crate::Failure;
+use crate::args::InfoArgs;
 use demkit::mesh::topology::topology;
 use demkit::mesh::validate::check;
 
@@ -10,10 +10,22 @@ pub fn run(a: &InfoArgs) -> Result<u8, Failure> {
     let mesh = demkit::io::read_mesh(&a.mesh)?;
     let findings = check(&mesh);
     // Topology needs indices in range; skip it when the faces are broken.
-    let indices_ok = mesh.faces.iter().all(|f| f.iter().all(|&v| (v as usize) < mesh.n_vertices()));
+    let indices_ok = mesh
+        .faces
+        .iter()
+        .all(|f| f.iter().all(|&v| (v as usize) < mesh.n_vertices()));
     let topo = indices_ok.then(|| topology(&mesh));
-    let area: f64 = if indices_ok { demkit::geometry::face_areas(&mesh.positions, &mesh.faces).iter().sum() } else { f64::NAN };
-    let kind = topo.as_ref().map(|t| describe(t.boundary_loops.len(), t.genus, t.components)).unwrap_or("unknown");
+    let area: f64 = if indices_ok {
+        demkit::geometry::face_areas(&mesh.positions, &mesh.faces)
+            .iter()
+            .sum()
+    } else {
+        f64::NAN
+    };
+    let kind = topo
+        .as_ref()
+        .map(|t| describe(t.boundary_loops.len(), t.genus, t.components))
+        .unwrap_or("unknown");
     if a.json {
         let v = serde_json::json!({
             "file": a.mesh.display().to_string(),
@@ -39,14 +51,31 @@ pub fn run(a: &InfoArgs) -> Result<u8, Failure> {
         println!("faces:       {}", mesh.n_faces());
         if let Some(t) = &topo {
             println!("edges:       {}", t.n_edges);
-            let lens: Vec<String> = t.boundary_loops.iter().map(|l| l.len().to_string()).collect();
-            println!("boundaries:  {}{}", t.boundary_loops.len(), if lens.is_empty() { String::new() } else { format!(" ({} vertices)", lens.join(", ")) });
+            let lens: Vec<String> = t
+                .boundary_loops
+                .iter()
+                .map(|l| l.len().to_string())
+                .collect();
+            println!(
+                "boundaries:  {}{}",
+                t.boundary_loops.len(),
+                if lens.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({} vertices)", lens.join(", "))
+                }
+            );
             println!("euler char.: {}", t.euler_characteristic);
             println!("genus:       {}", t.genus);
             println!("components:  {}", t.components);
         }
         println!("area:        {area}");
-        println!("kind:        {kind}{}", suggested_method(kind).map(|m| format!(" (method: {m})")).unwrap_or_default());
+        println!(
+            "kind:        {kind}{}",
+            suggested_method(kind)
+                .map(|m| format!(" (method: {m})"))
+                .unwrap_or_default()
+        );
         if findings.errors.is_empty() {
             println!("valid:       yes");
         } else {

@@ -1,21 +1,24 @@
 //! `demkit map`: read, validate, map, write the mesh and the report.
 
+use crate::Failure;
 use crate::args::{MapArgs, Method};
 use crate::progress::Bar;
 use crate::report::{InputSummary, Report};
-use crate::Failure;
+use demkit::TriMesh;
 use demkit::init::shape::Shape;
 use demkit::mesh::topology::topology;
-use demkit::metrics::{compute, Domain};
 use demkit::methods::{dem, dem_shape};
-use demkit::population::{face_populations, PopulationSpec};
-use demkit::TriMesh;
+use demkit::metrics::{Domain, compute};
+use demkit::population::{PopulationSpec, face_populations};
 use std::path::Path;
 use std::time::Instant;
 
 /// Only .obj and .ply are written.
 pub fn check_output_extension(out: &Path) -> Result<(), Failure> {
-    let ext = out.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
+    let ext = out
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
     match ext.as_deref() {
         Some("obj") | Some("ply") => Ok(()),
         _ => Err(Failure::input(format!(
@@ -54,7 +57,10 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
                 Some(s) => Shape::parse(s)?,
                 None => Shape::Disk,
             };
-            let mut c = dem_shape::Config { shape, ..Default::default() };
+            let mut c = dem_shape::Config {
+                shape,
+                ..Default::default()
+            };
             apply_common(&mut c.epsilon, &mut c.max_iter, &mut c.dt, a);
             dem_shape::run(&mesh, &population, &c, &mut progress)
         }
@@ -67,7 +73,14 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     let result = result?;
     let out_mesh = TriMesh::new(result.positions.clone(), mesh.faces.clone());
     demkit::io::write_mesh(&a.out, &out_mesh)?;
-    let metrics = compute(&mesh, &population, &result.initial, &result.positions, Domain::Plane, None);
+    let metrics = compute(
+        &mesh,
+        &population,
+        &result.initial,
+        &result.positions,
+        Domain::Plane,
+        None,
+    );
     if let Some(path) = &a.report {
         let input = InputSummary {
             vertices: mesh.n_vertices(),
@@ -76,7 +89,10 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             genus: topo.genus,
         };
         let report = Report::new(&result, input, &metrics, t0.elapsed().as_secs_f64());
-        let text = serde_json::to_string_pretty(&report).map_err(|e| Failure { code: 1, message: e.to_string() })?;
+        let text = serde_json::to_string_pretty(&report).map_err(|e| Failure {
+            code: 1,
+            message: e.to_string(),
+        })?;
         std::fs::write(path, text + "\n")
             .map_err(|e| Failure::input(format!("{}: {e}", path.display())))?;
     }
@@ -95,7 +111,10 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         );
     }
     if metrics.flipped_triangles > 0 {
-        eprintln!("error: the map has {} flipped triangles", metrics.flipped_triangles);
+        eprintln!(
+            "error: the map has {} flipped triangles",
+            metrics.flipped_triangles
+        );
         return Ok(1);
     }
     Ok(if result.converged { 0 } else { 3 })
@@ -130,7 +149,7 @@ fn resolve_method(a: &MapArgs, boundaries: usize, genus: i64) -> Result<Method, 
         _ => {
             return Err(Failure::input(format!(
                 "no method handles a surface with {boundaries} boundary loops and genus {genus}"
-            )))
+            )));
         }
     })
 }
@@ -138,7 +157,9 @@ fn resolve_method(a: &MapArgs, boundaries: usize, genus: i64) -> Result<Method, 
 fn not_implemented(m: Method) -> Failure {
     let what = match m {
         Method::Sdem | Method::Lsdem | Method::SphericalConformal => "genus-0 closed surfaces",
-        Method::Deq | Method::Ldeq | Method::CircleConformal => "surfaces with holes (and disks with landmarks)",
+        Method::Deq | Method::Ldeq | Method::CircleConformal => {
+            "surfaces with holes (and disks with landmarks)"
+        }
         Method::Tdem => "genus-one closed surfaces",
         _ => "this input",
     };
@@ -166,6 +187,10 @@ fn warn_unused(a: &MapArgs, m: Method) {
     .map(|(_, n)| *n)
     .collect();
     if !unused.is_empty() && matches!(m, Method::Dem | Method::DemShape) {
-        eprintln!("warning: {} not used by --method {}", unused.join(", "), m.name());
+        eprintln!(
+            "warning: {} not used by --method {}",
+            unused.join(", "),
+            m.name()
+        );
     }
 }

@@ -1,7 +1,7 @@
 //! The JSON report of `demkit map --report` (DESIGN.md, "Report"; the names are the contract).
 
-use demkit::metrics::Metrics;
 use demkit::methods::MapResult;
+use demkit::metrics::Metrics;
 use serde::Serialize;
 
 /// The input summary.
@@ -28,44 +28,6 @@ pub struct HistoryEntry {
     pub error: f64,
 }
 
-/// The metrics block.
-#[derive(Serialize)]
-pub struct MetricsJson {
-    pub flipped_triangles: usize,
-    pub density_var_initial: f64,
-    pub density_var_final: f64,
-    pub face_density_var_initial: f64,
-    pub face_density_var_final: f64,
-    pub density_error_mean: f64,
-    pub density_error_sd: f64,
-    pub density_median: f64,
-    pub density_iqr: f64,
-    pub area_ratio_error_mean: f64,
-    pub mean_abs_mu: f64,
-    pub max_abs_mu: f64,
-    pub landmark_error: Option<f64>,
-}
-
-impl From<&Metrics> for MetricsJson {
-    fn from(m: &Metrics) -> Self {
-        MetricsJson {
-            flipped_triangles: m.flipped_triangles,
-            density_var_initial: m.density_var_initial,
-            density_var_final: m.density_var_final,
-            face_density_var_initial: m.face_density_var_initial,
-            face_density_var_final: m.face_density_var_final,
-            density_error_mean: m.density_error_mean,
-            density_error_sd: m.density_error_sd,
-            density_median: m.density_median,
-            density_iqr: m.density_iqr,
-            area_ratio_error_mean: m.area_ratio_error_mean,
-            mean_abs_mu: m.mean_abs_mu,
-            max_abs_mu: m.max_abs_mu,
-            landmark_error: m.landmark_error,
-        }
-    }
-}
-
 /// The whole report.
 #[derive(Serialize)]
 pub struct Report {
@@ -75,7 +37,7 @@ pub struct Report {
     pub stop_reason: String,
     pub iterations: usize,
     pub time_s: Times,
-    pub metrics: MetricsJson,
+    pub metrics: Metrics,
     pub history: Vec<HistoryEntry>,
     pub notes: Vec<String>,
 }
@@ -89,13 +51,20 @@ impl Report {
             converged: result.converged,
             stop_reason: result.stop_reason.as_str().to_string(),
             iterations: result.iterations,
-            time_s: Times { init: result.time_init, map: result.time_map, total },
-            metrics: metrics.into(),
+            time_s: Times {
+                init: result.time_init,
+                map: result.time_map,
+                total,
+            },
+            metrics: metrics.clone(),
             history: result
                 .history
                 .iter()
                 .enumerate()
-                .map(|(i, &e)| HistoryEntry { iteration: i + 1, error: e })
+                .map(|(i, &e)| HistoryEntry {
+                    iteration: i + 1,
+                    error: e,
+                })
                 .collect(),
             notes: result.notes.clone(),
         }

@@ -1,11 +1,11 @@
 //! Benchmarks of the operators and of DEM on generated meshes (`cargo bench`).
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{Criterion, criterion_group, criterion_main};
 use demkit::fem::cotangent_weights;
 use demkit::generate::{peaks, square_grid};
 use demkit::linalg::{CachedCholesky, StiffnessPattern};
 use demkit::methods::dem;
-use demkit::population::{face_populations, PopulationSpec};
+use demkit::population::{PopulationSpec, face_populations};
 use std::hint::black_box;
 
 fn operators(c: &mut Criterion) {
@@ -14,12 +14,18 @@ fn operators(c: &mut Criterion) {
     let pattern = StiffnessPattern::new(n, &grid.faces, None);
     let mass = vec![1e-5; n];
     let mut values = vec![0.0; pattern.nnz()];
-    c.bench_function("cotangent weights 179k faces", |b| b.iter(|| black_box(cotangent_weights(&grid.positions, &grid.faces))));
+    c.bench_function("cotangent weights 179k faces", |b| {
+        b.iter(|| black_box(cotangent_weights(&grid.positions, &grid.faces)))
+    });
     let w = cotangent_weights(&grid.positions, &grid.faces);
-    c.bench_function("assemble A + L 90k vertices", |b| b.iter(|| pattern.assemble(black_box(&w), &mass, &mut values)));
+    c.bench_function("assemble A + L 90k vertices", |b| {
+        b.iter(|| pattern.assemble(black_box(&w), &mass, &mut values))
+    });
     let chol = CachedCholesky::new(&pattern).unwrap();
     pattern.assemble(&w, &mass, &mut values);
-    c.bench_function("numeric Cholesky 90k vertices", |b| b.iter(|| black_box(chol.factor(&pattern, &values).unwrap())));
+    c.bench_function("numeric Cholesky 90k vertices", |b| {
+        b.iter(|| black_box(chol.factor(&pattern, &values).unwrap()))
+    });
 }
 
 fn dem_runs(c: &mut Criterion) {
@@ -31,7 +37,11 @@ fn dem_runs(c: &mut Criterion) {
         b.iter(|| dem::run(&p, &pop, &dem::Config::default(), &mut |_| {}).unwrap())
     });
     let grid = square_grid(99, 99, 99.0, 99.0).unwrap();
-    let pop = face_populations(&PopulationSpec::parse("1+exp(-((x-49.5)^2+(y-49.5)^2)/1000)"), &grid).unwrap();
+    let pop = face_populations(
+        &PopulationSpec::parse("1+exp(-((x-49.5)^2+(y-49.5)^2)/1000)"),
+        &grid,
+    )
+    .unwrap();
     g.bench_function("grid 100x100, Table 4 Gaussian population", |b| {
         b.iter(|| dem::run(&grid, &pop, &dem::Config::default(), &mut |_| {}).unwrap())
     });

@@ -18,12 +18,12 @@
 //! - [`population`]: populations from names, files and expressions;
 //! - [`generate`]: synthetic meshes for examples and tests.
 
-#[cfg(test)]
-mod generate_fixtures;
 pub mod error;
 pub mod expr;
 pub mod fem;
 pub mod generate;
+#[cfg(test)]
+mod generate_fixtures;
 pub mod geometry;
 pub mod init;
 pub mod io;

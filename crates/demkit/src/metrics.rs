@@ -3,10 +3,10 @@
 //! Notation: P(T) population of face T, A0(T) its area on the initial map, A(T) its area on the
 //! final map; sums run over the faces of the input (a sea never counts).
 
+use crate::TriMesh;
 use crate::fem::VertexFaces;
 use crate::geometry::signed_areas_2d;
 use crate::qc::beltrami_coefficient_surface;
-use crate::TriMesh;
 
 /// The target domain of a map, which decides how flips and areas are measured.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -15,8 +15,8 @@ pub enum Domain {
     Plane,
 }
 
-/// The report metrics (DESIGN.md, "Report").
-#[derive(Debug, Clone, PartialEq)]
+/// The report metrics (DESIGN.md, "Report"); serialized with exactly these field names.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Metrics {
     /// Faces whose signed area has the sign opposite to the majority, or is zero.
     pub flipped_triangles: usize,
@@ -88,7 +88,12 @@ pub fn quantile(sorted: &[f64], q: f64) -> f64 {
 }
 
 /// Vertex density ρ_V = W^FV ρ_F (4.31) for `ρ_F = P / A`, and ρ_F itself.
-pub fn densities(faces: &[[u32; 3]], n_vertices: usize, population: &[f64], areas: &[f64]) -> (Vec<f64>, Vec<f64>) {
+pub fn densities(
+    faces: &[[u32; 3]],
+    n_vertices: usize,
+    population: &[f64],
+    areas: &[f64],
+) -> (Vec<f64>, Vec<f64>) {
     let rho_f: Vec<f64> = population.iter().zip(areas).map(|(p, a)| p / a).collect();
     let w = VertexFaces::new(n_vertices, faces);
     (w.apply(areas, &rho_f), rho_f)
@@ -128,9 +133,17 @@ pub fn compute(
     let (density_error_mean, density_error_sd) = density_error(population, &a1);
     let sp: f64 = population.iter().sum();
     let sa: f64 = a1.iter().sum();
-    let mut ratio: Vec<f64> = population.iter().zip(&a1).map(|(p, a)| (p / sp) / (a / sa)).collect();
-    let area_ratio_error_mean =
-        population.iter().zip(&a1).map(|(p, a)| ((a / sa) / (p / sp) - 1.0).abs()).sum::<f64>() / a1.len() as f64;
+    let mut ratio: Vec<f64> = population
+        .iter()
+        .zip(&a1)
+        .map(|(p, a)| (p / sp) / (a / sa))
+        .collect();
+    let area_ratio_error_mean = population
+        .iter()
+        .zip(&a1)
+        .map(|(p, a)| ((a / sa) / (p / sp) - 1.0).abs())
+        .sum::<f64>()
+        / a1.len() as f64;
     ratio.sort_by(f64::total_cmp);
     let mu = match domain {
         Domain::Plane => beltrami_coefficient_surface(&input.positions, final_map, faces),
@@ -168,7 +181,12 @@ mod tests {
 
     fn two_triangles() -> TriMesh {
         TriMesh::new(
-            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+            ],
             vec![[0, 1, 2], [0, 2, 3]],
         )
     }
@@ -191,7 +209,14 @@ mod tests {
         let m = two_triangles();
         // Populations 1 and 3: normalized P = 1/4, 3/4; areas 1/2, 1/2.
         let pop = vec![1.0, 3.0];
-        let r = compute(&m, &pop, &m.positions, &m.positions, Domain::Plane, Some(&[(2, [1.0, 2.0, 0.0])]));
+        let r = compute(
+            &m,
+            &pop,
+            &m.positions,
+            &m.positions,
+            Domain::Plane,
+            Some(&[(2, [1.0, 2.0, 0.0])]),
+        );
         let d0 = (0.5f64 / 0.25).ln().abs();
         let d1 = (0.5f64 / 0.75).ln().abs();
         assert!((r.density_error_mean - (d0 + d1) / 2.0).abs() < 1e-14);
@@ -204,7 +229,12 @@ mod tests {
     #[test]
     fn flips_are_counted_against_majority() {
         let faces = vec![[0u32, 1, 2], [0, 2, 3], [0, 3, 1]];
-        let map = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]];
+        let map = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [-1.0, 0.0, 0.0],
+        ];
         let (_, flipped) = map_areas(&map, &faces, Domain::Plane);
         // Signed areas: +, +, − → one flip.
         assert_eq!(flipped, 1);

@@ -1,12 +1,12 @@
 //! End-to-end tests of DEM and shape-prescribed DEM on generated meshes, against the DEM
 //! paper's Tables 4 and 5 (Choi & Rycroft 2018) and the acceptance figures of the DEM issue.
 
+use demkit::TriMesh;
 use demkit::generate::{gaussian, peaks, regular_polygon, square_grid};
 use demkit::init::shape::Shape;
-use demkit::methods::{dem, dem_shape, MapResult, StopReason};
-use demkit::metrics::{compute, Domain, Metrics};
-use demkit::population::{face_populations, PopulationSpec};
-use demkit::TriMesh;
+use demkit::methods::{MapResult, StopReason, dem, dem_shape};
+use demkit::metrics::{Domain, Metrics, compute};
+use demkit::population::{PopulationSpec, face_populations};
 
 fn run_dem(mesh: &TriMesh, population: &str) -> (MapResult, Metrics) {
     let pop = face_populations(&PopulationSpec::parse(population), mesh).unwrap();
@@ -29,7 +29,11 @@ fn table4_grid_populations_equalize_without_flips() {
         assert!(r.converged, "{expr}: not converged");
         assert_eq!(m.flipped_triangles, 0, "{expr}");
         assert!(m.density_iqr <= 0.03, "{expr}: IQR {}", m.density_iqr);
-        assert!((m.density_median - 1.0).abs() < 0.01, "{expr}: median {}", m.density_median);
+        assert!(
+            (m.density_median - 1.0).abs() < 0.01,
+            "{expr}: median {}",
+            m.density_median
+        );
         // The output keeps the input's size (area) and vertex order.
         assert_eq!(r.positions.len(), grid.n_vertices());
     }
@@ -54,10 +58,18 @@ fn peaks_area_preserving_beats_table5() {
     assert!(r.converged);
     assert_ne!(r.stop_reason, StopReason::MaxIter);
     assert_eq!(m.flipped_triangles, 0);
-    assert!(m.area_ratio_error_mean <= 0.06, "E_A {}", m.area_ratio_error_mean);
+    assert!(
+        m.area_ratio_error_mean <= 0.06,
+        "E_A {}",
+        m.area_ratio_error_mean
+    );
     // The map is planar and keeps the input's total area.
-    let a_in: f64 = demkit::geometry::face_areas(&p.positions, &p.faces).iter().sum();
-    let a_out: f64 = demkit::geometry::face_areas(&r.positions, &p.faces).iter().sum();
+    let a_in: f64 = demkit::geometry::face_areas(&p.positions, &p.faces)
+        .iter()
+        .sum();
+    let a_out: f64 = demkit::geometry::face_areas(&r.positions, &p.faces)
+        .iter()
+        .sum();
     assert!((a_in - a_out).abs() < 1e-9 * a_in);
     assert!(r.positions.iter().all(|q| q[2] == 0.0));
 }
@@ -94,24 +106,54 @@ fn magnifying_lens_grows_the_region_with_more_population() {
 fn shape_prescribed_dem_keeps_the_boundary_on_the_shape() {
     let p = peaks(20).unwrap();
     let pop = face_populations(&PopulationSpec::Area, &p).unwrap();
-    let boundary = demkit::mesh::topology::topology(&p).boundary_loops.remove(0);
-    for shape in [Shape::Disk, Shape::Rectangle { width: 3.0, height: 2.0 }, Shape::Ellipse { a: 2.0, b: 1.0 }] {
-        let c = dem_shape::Config { shape, ..Default::default() };
+    let boundary = demkit::mesh::topology::topology(&p)
+        .boundary_loops
+        .remove(0);
+    for shape in [
+        Shape::Disk,
+        Shape::Rectangle {
+            width: 3.0,
+            height: 2.0,
+        },
+        Shape::Ellipse { a: 2.0, b: 1.0 },
+    ] {
+        let c = dem_shape::Config {
+            shape,
+            ..Default::default()
+        };
         let r = dem_shape::run(&p, &pop, &c, &mut |_| {}).unwrap();
         let m = compute(&p, &pop, &r.initial, &r.positions, Domain::Plane, None);
         assert_eq!(m.flipped_triangles, 0, "{shape:?}");
         for &v in &boundary {
             let q = r.positions[v as usize];
             let proj = shape.project([q[0], q[1]]);
-            assert!((proj[0] - q[0]).hypot(proj[1] - q[1]) < 1e-9, "{shape:?}: vertex {v} off the shape");
+            assert!(
+                (proj[0] - q[0]).hypot(proj[1] - q[1]) < 1e-9,
+                "{shape:?}: vertex {v} off the shape"
+            );
         }
-        let initial = demkit::metrics::density_error(&pop, &demkit::metrics::map_areas(&r.initial, &p.faces, Domain::Plane).0).0;
-        eprintln!("{shape:?}: initial {initial:.4} final {:.4} iterations {}", m.density_error_mean, r.iterations);
-        assert!(m.density_error_mean < initial, "{shape:?}: {} vs initial {initial}", m.density_error_mean);
+        let initial = demkit::metrics::density_error(
+            &pop,
+            &demkit::metrics::map_areas(&r.initial, &p.faces, Domain::Plane).0,
+        )
+        .0;
+        eprintln!(
+            "{shape:?}: initial {initial:.4} final {:.4} iterations {}",
+            m.density_error_mean, r.iterations
+        );
+        assert!(
+            m.density_error_mean < initial,
+            "{shape:?}: {} vs initial {initial}",
+            m.density_error_mean
+        );
         // Disk and rectangle reduce the error to about 0.09 from 0.65; the ellipse stalls
         // around 0.54 (known issue, see README), so only improvement is asserted for it.
         if !matches!(shape, Shape::Ellipse { .. }) {
-            assert!(m.density_error_mean < 0.2 * initial, "{shape:?}: {} vs initial {initial}", m.density_error_mean);
+            assert!(
+                m.density_error_mean < 0.2 * initial,
+                "{shape:?}: {} vs initial {initial}",
+                m.density_error_mean
+            );
         }
     }
 }

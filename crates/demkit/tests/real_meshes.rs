@@ -7,8 +7,8 @@
 //! human_face, ≤ 0.17 on chinese_lion) are not met yet; see README "Results".
 
 use demkit::methods::dem;
-use demkit::metrics::{compute, density_error, map_areas, Domain};
-use demkit::population::{face_populations, PopulationSpec};
+use demkit::metrics::{Domain, compute, density_error, map_areas};
+use demkit::population::{PopulationSpec, face_populations};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -35,7 +35,10 @@ fn check(rel: &str, seconds: f64) {
     assert!(r.converged);
     assert_eq!(m.flipped_triangles, 0);
     assert_eq!(r.positions.len(), mesh.n_vertices());
-    assert!(m.density_error_mean < initial, "no improvement over the initial map");
+    assert!(
+        m.density_error_mean < initial,
+        "no improvement over the initial map"
+    );
     if !cfg!(debug_assertions) {
         assert!(elapsed <= seconds, "{rel}: {elapsed:.2} s > {seconds} s");
     }

@@ -18,7 +18,11 @@ impl VertexFaces {
 
     /// Incidence keeping only the pairs (vertex, face) for which `keep` is true — e.g. to
     /// average only over the region of interest at its boundary (DEM paper, after (4.32)).
-    pub fn new_filtered(n_vertices: usize, faces: &[[u32; 3]], keep: impl Fn(usize, usize) -> bool) -> Self {
+    pub fn new_filtered(
+        n_vertices: usize,
+        faces: &[[u32; 3]],
+        keep: impl Fn(usize, usize) -> bool,
+    ) -> Self {
         let mut ptr = vec![0usize; n_vertices + 1];
         for (f, face) in faces.iter().enumerate() {
             for &v in face {
@@ -83,7 +87,11 @@ impl VertexFaces {
                     s = [s[0] + a * x[0], s[1] + a * x[1], s[2] + a * x[2]];
                     w += a;
                 }
-                if w > 0.0 { [s[0] / w, s[1] / w, s[2] / w] } else { [0.0; 3] }
+                if w > 0.0 {
+                    [s[0] / w, s[1] / w, s[2] / w]
+                } else {
+                    [0.0; 3]
+                }
             })
             .collect()
     }
@@ -103,7 +111,11 @@ mod tests {
         assert_eq!(r[3], 6.0);
         assert_eq!(r[0], (1.0 * 2.0 + 3.0 * 6.0) / 4.0);
         // Rows of W^FV sum to one: a constant is reproduced.
-        assert!(w.apply(&[0.7, 0.1], &[5.0, 5.0]).iter().all(|&x| (x - 5.0).abs() < 1e-15));
+        assert!(
+            w.apply(&[0.7, 0.1], &[5.0, 5.0])
+                .iter()
+                .all(|&x| (x - 5.0).abs() < 1e-15)
+        );
     }
 
     #[test]

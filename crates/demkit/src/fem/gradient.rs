@@ -51,7 +51,10 @@ mod tests {
         // Project g0 onto the plane.
         let nn = scale(n, 1.0 / norm(n));
         let g = sub(g0, scale(nn, crate::geometry::dot(g0, nn)));
-        let values: Vec<f64> = p.iter().map(|x| crate::geometry::dot(g, *x) + 5.0).collect();
+        let values: Vec<f64> = p
+            .iter()
+            .map(|x| crate::geometry::dot(g, *x) + 5.0)
+            .collect();
         let out = face_gradient(&p, &[[0, 1, 2]], &values);
         for d in 0..3 {
             assert!((out[0][d] - g[d]).abs() < 1e-12);
@@ -61,7 +64,10 @@ mod tests {
     #[test]
     fn constant_has_zero_gradient_and_degenerate_face_is_safe() {
         let p = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
-        assert_eq!(face_gradient(&p, &[[0, 1, 2]], &[1.0, 2.0, 3.0])[0], [0.0; 3]);
+        assert_eq!(
+            face_gradient(&p, &[[0, 1, 2]], &[1.0, 2.0, 3.0])[0],
+            [0.0; 3]
+        );
         let q = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         let g = face_gradient(&q, &[[0, 1, 2]], &[4.0, 4.0, 4.0])[0];
         assert!(norm(g) < 1e-15);

@@ -5,7 +5,7 @@
 mod plane;
 mod vec3;
 
-pub use plane::{planar_frame, PlaneFrame};
+pub use plane::{PlaneFrame, planar_frame};
 
 pub use vec3::{add, cross, dot, norm, scale, sub};
 
@@ -26,7 +26,13 @@ pub fn signed_area_2d(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
 pub fn face_areas(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
     faces
         .par_iter()
-        .map(|f| triangle_area(positions[f[0] as usize], positions[f[1] as usize], positions[f[2] as usize]))
+        .map(|f| {
+            triangle_area(
+                positions[f[0] as usize],
+                positions[f[1] as usize],
+                positions[f[2] as usize],
+            )
+        })
         .collect()
 }
 
@@ -34,7 +40,13 @@ pub fn face_areas(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
 pub fn signed_areas_2d(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
     faces
         .par_iter()
-        .map(|f| signed_area_2d(positions[f[0] as usize], positions[f[1] as usize], positions[f[2] as usize]))
+        .map(|f| {
+            signed_area_2d(
+                positions[f[0] as usize],
+                positions[f[1] as usize],
+                positions[f[2] as usize],
+            )
+        })
         .collect()
 }
 
@@ -75,7 +87,11 @@ pub fn local_frame(p: [[f64; 3]; 3]) -> [[f64; 2]; 3] {
     let x = scale(e1, 1.0 / l1);
     let n = cross(e1, e2);
     let ln = norm(n);
-    let y = if ln > 0.0 { cross(scale(n, 1.0 / ln), x) } else { [0.0; 3] };
+    let y = if ln > 0.0 {
+        cross(scale(n, 1.0 / ln), x)
+    } else {
+        [0.0; 3]
+    };
     [[0.0, 0.0], [l1, 0.0], [dot(e2, x), dot(e2, y)]]
 }
 
@@ -100,7 +116,11 @@ mod tests {
         assert!(c[0].abs() < 1e-15); // right angle
         assert!((c[1] - 1.0).abs() < 1e-15 && (c[2] - 1.0).abs() < 1e-15); // 45 degrees
         // Equilateral: cot 60° = 1/√3.
-        let e = corner_cotangents([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 3f64.sqrt() / 2.0, 0.0]]);
+        let e = corner_cotangents([
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.5, 3f64.sqrt() / 2.0, 0.0],
+        ]);
         for v in e {
             assert!((v - 1.0 / 3f64.sqrt()).abs() < 1e-14);
         }
@@ -114,7 +134,9 @@ mod tests {
         assert!((d(q[0], q[1]) - norm(sub(p[1], p[0]))).abs() < 1e-12);
         assert!((d(q[1], q[2]) - norm(sub(p[2], p[1]))).abs() < 1e-12);
         assert!((d(q[2], q[0]) - norm(sub(p[0], p[2]))).abs() < 1e-12);
-        let a2 = 0.5 * ((q[1][0] - q[0][0]) * (q[2][1] - q[0][1]) - (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]));
+        let a2 = 0.5
+            * ((q[1][0] - q[0][0]) * (q[2][1] - q[0][1])
+                - (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]));
         assert!((a2 - triangle_area(p[0], p[1], p[2])).abs() < 1e-12);
     }
 }

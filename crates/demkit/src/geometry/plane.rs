@@ -24,7 +24,11 @@ impl PlaneFrame {
 /// frame of that plane. The plane normal is the area-weighted face normal, so the majority
 /// orientation of the faces is counter-clockwise in the frame. A mesh in the plane z = 0 with
 /// counter-clockwise faces gets the identity frame (its coordinates are kept as they are).
-pub fn planar_frame(positions: &[[f64; 3]], faces: &[[u32; 3]], rel_tol: f64) -> Option<PlaneFrame> {
+pub fn planar_frame(
+    positions: &[[f64; 3]],
+    faces: &[[u32; 3]],
+    rel_tol: f64,
+) -> Option<PlaneFrame> {
     let mut nsum = [0.0; 3];
     for f in faces {
         let [a, b, c] = f.map(|v| positions[v as usize]);
@@ -50,7 +54,11 @@ pub fn planar_frame(positions: &[[f64; 3]], faces: &[[u32; 3]], rel_tol: f64) ->
         return None;
     }
     // Keep x as the first axis where possible (identity frame for the z = 0 plane).
-    let seed = if n[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+    let seed = if n[0].abs() < 0.9 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
     let e1 = sub(seed, scale(n, dot(seed, n)));
     let e1 = scale(e1, 1.0 / norm(e1));
     let e2 = cross(n, e1);
@@ -71,7 +79,12 @@ mod tests {
         let q: Vec<[f64; 3]> = pos.iter().map(|&p| fr2.project(p)).collect();
         assert!(crate::geometry::signed_area_2d(q[0], q[2], q[1]) > 0.0);
         // A bent mesh is not planar.
-        let bent = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.5]];
+        let bent = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [1.0, 1.0, 0.5],
+        ];
         assert!(planar_frame(&bent, &[[0, 1, 2], [1, 3, 2]], 1e-9).is_none());
     }
 }

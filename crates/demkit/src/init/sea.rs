@@ -84,7 +84,9 @@ pub fn build_sea_with_radius(
     roi_radius: f64,
 ) -> Result<SeaMesh> {
     if !(roi_radius > 0.0 && roi_radius < 1.0) {
-        return Err(Error::Argument(format!("the ROI radius in the unit disk must lie in (0, 1), got {roi_radius}")));
+        return Err(Error::Argument(format!(
+            "the ROI radius in the unit disk must lie in (0, 1), got {roi_radius}"
+        )));
     }
     validate(roi_positions, roi_faces, boundary, eta)?;
     let n = roi_positions.len();

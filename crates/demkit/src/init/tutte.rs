@@ -103,7 +103,9 @@ pub fn fixed_boundary_map(
 pub fn count_nonpositive(map: &[[f64; 3]], faces: &[[u32; 3]]) -> usize {
     faces
         .iter()
-        .filter(|f| signed_area_2d(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize]) <= 0.0)
+        .filter(|f| {
+            signed_area_2d(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize]) <= 0.0
+        })
         .count()
 }
 
@@ -118,15 +120,26 @@ pub fn flatten_with_fallback(
 ) -> Result<(Vec<[f64; 3]>, InteriorWeights)> {
     if let InteriorWeights::Authalic { lambda } = weights {
         if !(0.0..=1.0).contains(&lambda) {
-            return Err(Error::Argument(format!("authalic blend λ = {lambda} must lie in [0, 1]")));
+            return Err(Error::Argument(format!(
+                "authalic blend λ = {lambda} must lie in [0, 1]"
+            )));
         }
-        if let Ok(map) = fixed_boundary_map(positions, faces, boundary, boundary_positions, weights) {
-            if map.iter().all(|p| p[0].is_finite() && p[1].is_finite()) && count_nonpositive(&map, faces) == 0 {
+        if let Ok(map) = fixed_boundary_map(positions, faces, boundary, boundary_positions, weights)
+        {
+            if map.iter().all(|p| p[0].is_finite() && p[1].is_finite())
+                && count_nonpositive(&map, faces) == 0
+            {
                 return Ok((map, weights));
             }
         }
     }
-    let map = fixed_boundary_map(positions, faces, boundary, boundary_positions, InteriorWeights::Tutte)?;
+    let map = fixed_boundary_map(
+        positions,
+        faces,
+        boundary,
+        boundary_positions,
+        InteriorWeights::Tutte,
+    )?;
     Ok((map, InteriorWeights::Tutte))
 }
 
@@ -160,8 +173,18 @@ mod tests {
         // reproduces the identity, as linear functions are harmonic.
         let (pos, faces, _) = grid(6, 0.2);
         let b = boundary_loop(6);
-        let bp: Vec<[f64; 2]> = b.iter().map(|&v| [pos[v as usize][0], pos[v as usize][1]]).collect();
-        let map = fixed_boundary_map(&pos, &faces, &b, &bp, InteriorWeights::Authalic { lambda: 0.0 }).unwrap();
+        let bp: Vec<[f64; 2]> = b
+            .iter()
+            .map(|&v| [pos[v as usize][0], pos[v as usize][1]])
+            .collect();
+        let map = fixed_boundary_map(
+            &pos,
+            &faces,
+            &b,
+            &bp,
+            InteriorWeights::Authalic { lambda: 0.0 },
+        )
+        .unwrap();
         for (p, q) in pos.iter().zip(&map) {
             assert!((p[0] - q[0]).abs() < 1e-12 && (p[1] - q[1]).abs() < 1e-12);
         }
@@ -183,7 +206,9 @@ mod tests {
         // Each interior vertex is the average of its neighbours (weights: one per edge).
         let v = 2 * 6 + 2; // an interior vertex of the 6x6-point grid
         let nb: Vec<usize> = vec![v - 1, v + 1, v - 6, v + 6, v + 7, v - 7];
-        let avg = nb.iter().fold([0.0, 0.0], |s, &u| [s[0] + map[u][0] / 6.0, s[1] + map[u][1] / 6.0]);
+        let avg = nb.iter().fold([0.0, 0.0], |s, &u| {
+            [s[0] + map[u][0] / 6.0, s[1] + map[u][1] / 6.0]
+        });
         assert!((avg[0] - map[v][0]).abs() < 1e-12 && (avg[1] - map[v][1]).abs() < 1e-12);
     }
 
@@ -191,12 +216,31 @@ mod tests {
     fn authalic_map_of_flat_mesh_is_identity_and_fallback_reports_weights() {
         let (pos, faces, _) = grid(4, 0.1);
         let b = boundary_loop(4);
-        let bp: Vec<[f64; 2]> = b.iter().map(|&v| [pos[v as usize][0], pos[v as usize][1]]).collect();
-        let (map, used) = flatten_with_fallback(&pos, &faces, &b, &bp, InteriorWeights::Authalic { lambda: 1.0 }).unwrap();
+        let bp: Vec<[f64; 2]> = b
+            .iter()
+            .map(|&v| [pos[v as usize][0], pos[v as usize][1]])
+            .collect();
+        let (map, used) = flatten_with_fallback(
+            &pos,
+            &faces,
+            &b,
+            &bp,
+            InteriorWeights::Authalic { lambda: 1.0 },
+        )
+        .unwrap();
         assert_eq!(used, InteriorWeights::Authalic { lambda: 1.0 });
         for (p, q) in pos.iter().zip(&map) {
             assert!((p[0] - q[0]).abs() < 1e-10 && (p[1] - q[1]).abs() < 1e-10);
         }
-        assert!(flatten_with_fallback(&pos, &faces, &b, &bp, InteriorWeights::Authalic { lambda: 2.0 }).is_err());
+        assert!(
+            flatten_with_fallback(
+                &pos,
+                &faces,
+                &b,
+                &bp,
+                InteriorWeights::Authalic { lambda: 2.0 }
+            )
+            .is_err()
+        );
     }
 }

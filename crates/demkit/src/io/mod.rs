@@ -191,6 +191,27 @@ pub(crate) fn strip_comment(line: &[u8]) -> &[u8] {
 }
 
 /// Parses a decimal floating-point number (also accepts `inf` and `nan`: callers check).
+/// Reads the three coordinates of a vertex from the remaining tokens of a text line; errors
+/// name the file and line (`what` names the vertex in the non-finite message).
+pub(crate) fn parse_vertex<'a>(
+    toks: &mut impl Iterator<Item = &'a [u8]>,
+    path: &str,
+    line_no: usize,
+    what: &str,
+) -> Result<[f64; 3]> {
+    let mut p = [0.0; 3];
+    for (k, x) in p.iter_mut().enumerate() {
+        let t = toks.next().ok_or_else(|| {
+            parse_error(path, line_no, format!("vertex with {k} coordinates: 3 are needed"))
+        })?;
+        *x = parse_f64(t).ok_or_else(|| number_error(path, line_no, t))?;
+    }
+    if !p.iter().all(|x| x.is_finite()) {
+        return Err(parse_error(path, line_no, format!("{what} has a non-finite coordinate")));
+    }
+    Ok(p)
+}
+
 pub(crate) fn parse_f64(token: &[u8]) -> Option<f64> {
     std::str::from_utf8(token).ok()?.parse().ok()
 }

@@ -1,7 +1,7 @@
 //! Wavefront OBJ: `v` and `f` statements (triangles only); everything else is ignored.
 
-use super::{Lines, format_error, number_error, parse_error, parse_f64, parse_int, show};
-use super::{strip_comment, tokens};
+use super::{Lines, format_error, parse_error, parse_int, show};
+use super::{parse_vertex, strip_comment, tokens};
 use crate::{Result, TriMesh};
 use std::io::Write;
 
@@ -25,24 +25,8 @@ pub fn parse_obj(data: &[u8], path: &str) -> Result<TriMesh> {
         let mut toks = tokens(line);
         match toks.next() {
             Some(b"v") => {
-                let mut p = [0.0; 3];
-                for (k, x) in p.iter_mut().enumerate() {
-                    let t = toks.next().ok_or_else(|| {
-                        parse_error(
-                            path,
-                            line_no,
-                            format!("vertex with {k} coordinates: 3 are needed"),
-                        )
-                    })?;
-                    *x = parse_f64(t).ok_or_else(|| number_error(path, line_no, t))?;
-                }
-                if !p.iter().all(|x| x.is_finite()) {
-                    return Err(parse_error(
-                        path,
-                        line_no,
-                        format!("vertex {} has a non-finite coordinate", positions.len()),
-                    ));
-                }
+                let what = format!("vertex {}", positions.len());
+                let p = parse_vertex(&mut toks, path, line_no, &what)?;
                 positions.push(p);
             }
             Some(b"f") => {

@@ -1,7 +1,7 @@
 //! Object File Format (OFF), text only: header, counts, vertex lines, face lines.
 
-use super::{Lines, format_error, number_error, parse_error, parse_f64, parse_int, show};
-use super::{strip_comment, tokens};
+use super::{Lines, format_error, parse_error, parse_int, show};
+use super::{parse_vertex, strip_comment, tokens};
 use crate::{Result, TriMesh};
 
 /// Parses OFF text. `path` only labels error messages.
@@ -82,24 +82,7 @@ pub fn parse_off(data: &[u8], path: &str) -> Result<TriMesh> {
             .next()
             .ok_or_else(|| format_error(path, &format!("file ends after {v} of {nv} vertices")))?;
         let mut toks = tokens(line);
-        let mut p = [0.0; 3];
-        for (k, x) in p.iter_mut().enumerate() {
-            let t = toks.next().ok_or_else(|| {
-                parse_error(
-                    path,
-                    line_no,
-                    format!("vertex with {k} coordinates: 3 are needed"),
-                )
-            })?;
-            *x = parse_f64(t).ok_or_else(|| number_error(path, line_no, t))?;
-        }
-        if !p.iter().all(|x| x.is_finite()) {
-            return Err(parse_error(
-                path,
-                line_no,
-                format!("vertex {v} has a non-finite coordinate"),
-            ));
-        }
+        let p = parse_vertex(&mut toks, path, line_no, &format!("vertex {v}"))?;
         positions.push(p);
     }
 

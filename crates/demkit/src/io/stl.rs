@@ -1,7 +1,7 @@
 //! STL, ascii and binary. STL stores every triangle with its own three corners; the reader
 //! welds corners with exactly equal coordinates into shared vertices.
 
-use super::{Lines, format_error, number_error, parse_error, parse_f64, tokens};
+use super::{Lines, format_error, parse_error, parse_vertex, tokens};
 use crate::mesh::weld;
 use crate::{Result, TriMesh};
 
@@ -120,24 +120,7 @@ fn parse_ascii(data: &[u8], path: &str) -> Result<TriMesh> {
         match toks.next() {
             Some(b"facet") => facet_line = line_no,
             Some(b"vertex") => {
-                let mut p = [0.0; 3];
-                for (k, x) in p.iter_mut().enumerate() {
-                    let t = toks.next().ok_or_else(|| {
-                        parse_error(
-                            path,
-                            line_no,
-                            format!("vertex with {k} coordinates: 3 are needed"),
-                        )
-                    })?;
-                    *x = parse_f64(t).ok_or_else(|| number_error(path, line_no, t))?;
-                }
-                if !p.iter().all(|x| x.is_finite()) {
-                    return Err(parse_error(
-                        path,
-                        line_no,
-                        "vertex has a non-finite coordinate",
-                    ));
-                }
+                let p = parse_vertex(&mut toks, path, line_no, "vertex")?;
                 if corners.is_empty() && facet_line == 0 {
                     facet_line = line_no;
                 }

@@ -9,7 +9,7 @@
 use super::StiffnessPattern;
 use crate::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky};
+use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky, factorize_symbolic_cholesky};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 use std::cell::RefCell;
@@ -23,7 +23,10 @@ pub struct CachedCholesky {
 
 impl std::fmt::Debug for CachedCholesky {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("CachedCholesky").field("n", &self.n).field("factor_len", &self.symbolic.len_val()).finish()
+        f.debug_struct("CachedCholesky")
+            .field("n", &self.n)
+            .field("factor_len", &self.symbolic.len_val())
+            .finish()
     }
 }
 
@@ -47,24 +50,52 @@ impl CachedCholesky {
     /// Analyses the pattern (fill-reducing ordering and symbolic factorization).
     pub fn new(pattern: &StiffnessPattern) -> Result<Self> {
         let n = pattern.n_unknowns();
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, pattern.col_ptr(), None, pattern.row_idx());
-        let symbolic = factorize_symbolic_cholesky(sym, Side::Lower, Default::default(), Default::default())
-            .map_err(|e| Error::Numerical(format!("symbolic Cholesky analysis failed: {e:?}")))?;
+        let sym =
+            SymbolicSparseColMatRef::new_checked(n, n, pattern.col_ptr(), None, pattern.row_idx());
+        let symbolic = factorize_symbolic_cholesky(
+            sym,
+            Side::Lower,
+            Default::default(),
+            Default::default(),
+        )
+        .map_err(|e| Error::Numerical(format!("symbolic Cholesky analysis failed: {e:?}")))?;
         let workspace = RefCell::new(new_workspace(&symbolic));
-        Ok(Self { symbolic, n, workspace })
+        Ok(Self {
+            symbolic,
+            n,
+            workspace,
+        })
     }
 
     /// Numeric factorization of the matrix with `values` on `pattern` (the same pattern as in
     /// [`new`](Self::new)). Fails if the matrix is not positive definite.
     pub fn factor(&self, pattern: &StiffnessPattern, values: &[f64]) -> Result<CholeskyFactor<'_>> {
-        let sym = SymbolicSparseColMatRef::new_checked(self.n, self.n, pattern.col_ptr(), None, pattern.row_idx());
+        let sym = SymbolicSparseColMatRef::new_checked(
+            self.n,
+            self.n,
+            pattern.col_ptr(),
+            None,
+            pattern.row_idx(),
+        );
         let mat = SparseColMatRef::new(sym, values);
         let mut l = vec![0.0; self.symbolic.len_val()];
         let mut ws = self.workspace.borrow_mut();
         self.symbolic
-            .factorize_numeric_llt(&mut l, mat, Side::Lower, Default::default(), Par::Seq, MemStack::new(&mut ws), Default::default())
+            .factorize_numeric_llt(
+                &mut l,
+                mat,
+                Side::Lower,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(&mut ws),
+                Default::default(),
+            )
             .map_err(|e| Error::Numerical(format!("matrix is not positive definite ({e:?})")))?;
-        Ok(CholeskyFactor { symbolic: &self.symbolic, values: l, n: self.n })
+        Ok(CholeskyFactor {
+            symbolic: &self.symbolic,
+            values: l,
+            n: self.n,
+        })
     }
 }
 
@@ -79,7 +110,12 @@ impl CholeskyFactor<'_> {
         debug_assert_eq!(b.len(), self.n * k);
         let mut buf = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(k, Par::Seq));
         let m = MatMut::from_column_major_slice_mut(b, self.n, k);
-        LltRef::new(self.symbolic, &self.values).solve_in_place_with_conj(Conj::No, m, Par::Seq, MemStack::new(&mut buf));
+        LltRef::new(self.symbolic, &self.values).solve_in_place_with_conj(
+            Conj::No,
+            m,
+            Par::Seq,
+            MemStack::new(&mut buf),
+        );
     }
 }
 
@@ -99,7 +135,9 @@ mod tests {
                 faces.push([a, a + n + 1, a + n]);
             }
         }
-        let fixed: Vec<bool> = (0..16).map(|v| v % 4 == 0 || v % 4 == 3 || v < 4 || v >= 12).collect();
+        let fixed: Vec<bool> = (0..16)
+            .map(|v| v % 4 == 0 || v % 4 == 3 || v < 4 || v >= 12)
+            .collect();
         let p = StiffnessPattern::new(16, &faces, Some(&fixed));
         assert_eq!(p.n_unknowns(), 4);
         let chol = CachedCholesky::new(&p).unwrap();

@@ -1,9 +1,9 @@
 //! Sparse LU for the non-symmetric systems (the locally authalic map).
 
 use crate::{Error, Result};
+use faer::MatMut;
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
-use faer::MatMut;
 
 /// Solves `A X = B` for a sparse `n × n` matrix given as triplets (duplicates are summed) and
 /// `k` right-hand sides stored column-major in `b` (overwritten with the solution).
@@ -19,7 +19,9 @@ pub fn solve_lu(n: usize, triplets: &[(usize, usize, f64)], b: &mut [f64], k: us
         .map_err(|e| Error::Numerical(format!("sparse LU failed: {e:?}")))?;
     lu.solve_in_place(MatMut::from_column_major_slice_mut(b, n, k));
     if b.iter().any(|x| !x.is_finite()) {
-        return Err(Error::Numerical("sparse LU produced a non-finite solution (singular matrix)".into()));
+        return Err(Error::Numerical(
+            "sparse LU produced a non-finite solution (singular matrix)".into(),
+        ));
     }
     Ok(())
 }

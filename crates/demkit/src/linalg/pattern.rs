@@ -220,7 +220,11 @@ impl StiffnessPattern {
 }
 
 /// Groups records sorted by their first key into CSR form.
-fn csr<R, T: Copy>(n: usize, records: &[R], key_val: impl Fn(&R) -> (u32, T)) -> (Vec<usize>, Vec<T>) {
+fn csr<R, T: Copy>(
+    n: usize,
+    records: &[R],
+    key_val: impl Fn(&R) -> (u32, T),
+) -> (Vec<usize>, Vec<T>) {
     let mut ptr = vec![0usize; n + 1];
     let mut vals = Vec::with_capacity(records.len());
     for r in records {

@@ -14,7 +14,7 @@ use crate::fem::VertexFaces;
 use crate::geometry::{face_areas, planar_frame, signed_areas_2d};
 use crate::init::boundary_flattening::curvature_flatten_boundary;
 use crate::init::sea::build_sea_with_radius;
-use crate::init::tutte::{flatten_with_fallback, InteriorWeights};
+use crate::init::tutte::{InteriorWeights, flatten_with_fallback};
 use crate::{Error, Result, TriMesh};
 use std::time::Instant;
 
@@ -53,7 +53,12 @@ impl Default for Config {
 }
 
 /// Computes the DEM of `mesh` (a topological disk) with one `population` value per face.
-pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: ProgressFn) -> Result<MapResult> {
+pub fn run(
+    mesh: &TriMesh,
+    population: &[f64],
+    config: &Config,
+    progress: ProgressFn,
+) -> Result<MapResult> {
     check_config(config)?;
     let t0 = Instant::now();
     let boundary = disk_boundary(mesh, population, "dem")?;
@@ -65,15 +70,21 @@ pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: Progre
         Some(frame) => mesh.positions.iter().map(|&p| frame.project(p)).collect(),
         None => {
             let bp = curvature_flatten_boundary(&mesh.positions, &boundary);
-            let (map, used) = flatten_with_fallback(&mesh.positions, faces, &boundary, &bp, config.initial)?;
+            let (map, used) =
+                flatten_with_fallback(&mesh.positions, faces, &boundary, &bp, config.initial)?;
             if used != config.initial {
-                notes.push("the locally authalic initial map overlapped; used Tutte's map instead".to_string());
+                notes.push(
+                    "the locally authalic initial map overlapped; used Tutte's map instead"
+                        .to_string(),
+                );
             }
             map
         }
     };
     if signed_areas_2d(&initial, faces).iter().any(|&a| !(a > 0.0)) {
-        return Err(Error::Numerical("the initial flattening has flipped triangles".into()));
+        return Err(Error::Numerical(
+            "the initial flattening has flipped triangles".into(),
+        ));
     }
 
     // Normalise: area centroid at the origin, total area 1 (scale-free iteration).
@@ -81,7 +92,10 @@ pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: Progre
     let area0: f64 = a0.iter().sum();
     let centroid = area_centroid(&initial, faces, &a0);
     let s = 1.0 / area0.sqrt();
-    let roi: Vec<[f64; 2]> = initial.iter().map(|p| [(p[0] - centroid[0]) * s, (p[1] - centroid[1]) * s]).collect();
+    let roi: Vec<[f64; 2]> = initial
+        .iter()
+        .map(|p| [(p[0] - centroid[0]) * s, (p[1] - centroid[1]) * s])
+        .collect();
 
     // Alg. 4: the sea.
     let sea = build_sea_with_radius(&roi, faces, &boundary, config.eta, config.roi_radius)?;
@@ -128,7 +142,13 @@ pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: Progre
     let k = (target_area / a1.iter().sum::<f64>()).sqrt();
     let positions = result
         .iter()
-        .map(|p| [centroid[0] + (p[0] - c1[0]) * k, centroid[1] + (p[1] - c1[1]) * k, 0.0])
+        .map(|p| {
+            [
+                centroid[0] + (p[0] - c1[0]) * k,
+                centroid[1] + (p[1] - c1[1]) * k,
+                0.0,
+            ]
+        })
         .collect();
     Ok(MapResult {
         method: "dem",
@@ -146,7 +166,9 @@ pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: Progre
 
 pub(crate) fn check_config_values(epsilon: f64, dt: Option<f64>, max_iter: usize) -> Result<()> {
     if !(epsilon > 0.0 && epsilon.is_finite()) {
-        return Err(Error::Argument(format!("--epsilon must be positive, got {epsilon}")));
+        return Err(Error::Argument(format!(
+            "--epsilon must be positive, got {epsilon}"
+        )));
     }
     if let Some(dt) = dt {
         if !(dt > 0.0 && dt.is_finite()) {
@@ -162,7 +184,10 @@ pub(crate) fn check_config_values(epsilon: f64, dt: Option<f64>, max_iter: usize
 fn check_config(c: &Config) -> Result<()> {
     check_config_values(c.epsilon, c.dt, c.max_iter)?;
     if !(c.eta > 1.0) {
-        return Err(Error::Argument(format!("sea radius η must exceed 1, got {}", c.eta)));
+        return Err(Error::Argument(format!(
+            "sea radius η must exceed 1, got {}",
+            c.eta
+        )));
     }
     Ok(())
 }

@@ -9,10 +9,10 @@ use super::disk_input::{default_time_step, disk_boundary};
 use super::planar_diffusion::{self, Problem};
 use super::{MapResult, ProgressFn};
 use crate::fem::VertexFaces;
+use crate::geometry::signed_areas_2d;
 use crate::geometry::{face_areas, norm, sub};
 use crate::init::shape::Shape;
-use crate::init::tutte::{fixed_boundary_map, InteriorWeights};
-use crate::geometry::signed_areas_2d;
+use crate::init::tutte::{InteriorWeights, fixed_boundary_map};
 use crate::{Error, Result, TriMesh};
 use std::time::Instant;
 
@@ -33,12 +33,23 @@ pub struct Config {
 
 impl Default for Config {
     fn default() -> Self {
-        Self { shape: Shape::Disk, epsilon: 1e-3, max_iter: 500, dt: None, patience: 5 }
+        Self {
+            shape: Shape::Disk,
+            epsilon: 1e-3,
+            max_iter: 500,
+            dt: None,
+            patience: 5,
+        }
     }
 }
 
 /// Computes the shape-prescribed DEM of `mesh` (a topological disk).
-pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: ProgressFn) -> Result<MapResult> {
+pub fn run(
+    mesh: &TriMesh,
+    population: &[f64],
+    config: &Config,
+    progress: ProgressFn,
+) -> Result<MapResult> {
     check_config_values(config.epsilon, config.dt, config.max_iter)?;
     let t0 = Instant::now();
     let boundary = disk_boundary(mesh, population, "dem-shape")?;
@@ -51,8 +62,17 @@ pub fn run(mesh: &TriMesh, population: &[f64], config: &Config, progress: Progre
         })
         .collect();
     let bp = shape_boundary(mesh, &boundary, &lengths, config.shape)?;
-    let initial = fixed_boundary_map(&mesh.positions, faces, &boundary, &bp, InteriorWeights::Tutte)?;
-    if let Some(f) = signed_areas_2d(&initial, faces).iter().position(|&a| !(a > 0.0)) {
+    let initial = fixed_boundary_map(
+        &mesh.positions,
+        faces,
+        &boundary,
+        &bp,
+        InteriorWeights::Tutte,
+    )?;
+    if let Some(f) = signed_areas_2d(&initial, faces)
+        .iter()
+        .position(|&a| !(a > 0.0))
+    {
         return Err(Error::Numerical(format!(
             "the initial map onto the shape is degenerate at face {f}; try --shape disk or ellipse"
         )));
@@ -104,7 +124,12 @@ fn corners(shape: Shape) -> Option<[[f64; 2]; 4]> {
         Shape::Rectangle { width, height } => (width, height),
         Shape::Disk | Shape::Ellipse { .. } => return None,
     };
-    Some([[w / 2.0, h / 2.0], [-w / 2.0, h / 2.0], [-w / 2.0, -h / 2.0], [w / 2.0, -h / 2.0]])
+    Some([
+        [w / 2.0, h / 2.0],
+        [-w / 2.0, h / 2.0],
+        [-w / 2.0, -h / 2.0],
+        [w / 2.0, -h / 2.0],
+    ])
 }
 
 /// Positions of the boundary loop on the prescribed shape, by arclength (Alg. 6 line 1).
@@ -113,7 +138,12 @@ fn corners(shape: Shape) -> Option<[[f64; 2]; 4]> {
 /// flat — so ears are snapped to the nearest corners, the remaining corners take the boundary
 /// vertices nearest to them by arclength, and each side is laid out by arclength between its
 /// two corner vertices. More ears than corners cannot be mapped bijectively: an error.
-fn shape_boundary(mesh: &TriMesh, boundary: &[u32], lengths: &[f64], shape: Shape) -> Result<Vec<[f64; 2]>> {
+fn shape_boundary(
+    mesh: &TriMesh,
+    boundary: &[u32],
+    lengths: &[f64],
+    shape: Shape,
+) -> Result<Vec<[f64; 2]>> {
     let Some(corner_points) = corners(shape) else {
         return Ok(shape.boundary_positions(lengths));
     };
@@ -131,7 +161,9 @@ fn shape_boundary(mesh: &TriMesh, boundary: &[u32], lengths: &[f64], shape: Shap
             face_count[v as usize] += 1;
         }
     }
-    let ears: Vec<usize> = (0..n).filter(|&k| face_count[boundary[k] as usize] == 1).collect();
+    let ears: Vec<usize> = (0..n)
+        .filter(|&k| face_count[boundary[k] as usize] == 1)
+        .collect();
     if ears.len() > 4 || n < 8 {
         return Err(Error::Topology {
             method: "dem-shape".into(),
@@ -157,15 +189,22 @@ fn shape_boundary(mesh: &TriMesh, boundary: &[u32], lengths: &[f64], shape: Shap
     };
     let mut chosen: [Option<usize>; 4] = [None; 4];
     for &k in &ears {
-        let j = (0..4).min_by(|&a, &b| cyc(frac[k], corner_frac[a]).total_cmp(&cyc(frac[k], corner_frac[b]))).unwrap_or(0);
-        let j = (0..4).map(|d| (j + d) % 4).find(|&j| chosen[j].is_none()).unwrap_or(j);
+        let j = (0..4)
+            .min_by(|&a, &b| cyc(frac[k], corner_frac[a]).total_cmp(&cyc(frac[k], corner_frac[b])))
+            .unwrap_or(0);
+        let j = (0..4)
+            .map(|d| (j + d) % 4)
+            .find(|&j| chosen[j].is_none())
+            .unwrap_or(j);
         chosen[j] = Some(k);
     }
     for j in 0..4 {
         if chosen[j].is_none() {
             let k = (0..n)
                 .filter(|k| !chosen.contains(&Some(*k)))
-                .min_by(|&a, &b| cyc(frac[a], corner_frac[j]).total_cmp(&cyc(frac[b], corner_frac[j])))
+                .min_by(|&a, &b| {
+                    cyc(frac[a], corner_frac[j]).total_cmp(&cyc(frac[b], corner_frac[j]))
+                })
                 .unwrap_or(0);
             chosen[j] = Some(k);
         }
@@ -187,7 +226,11 @@ fn shape_boundary(mesh: &TriMesh, boundary: &[u32], lengths: &[f64], shape: Shap
         let side: f64 = (0..steps).map(|i| lengths[(k0 + i) % n]).sum();
         let mut acc = 0.0;
         for i in 0..steps {
-            let t = if side > 0.0 { acc / side } else { i as f64 / steps as f64 };
+            let t = if side > 0.0 {
+                acc / side
+            } else {
+                i as f64 / steps as f64
+            };
             out[(k0 + i) % n] = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
             acc += lengths[(k0 + i) % n];
         }

@@ -12,11 +12,17 @@ pub(crate) fn disk_boundary(mesh: &TriMesh, population: &[f64], method: &str) ->
         let what = if topo.boundary_loops.is_empty() {
             format!("a closed surface of genus {}", topo.genus)
         } else {
-            format!("a surface with {} boundary loops and genus {}", topo.boundary_loops.len(), topo.genus)
+            format!(
+                "a surface with {} boundary loops and genus {}",
+                topo.boundary_loops.len(),
+                topo.genus
+            )
         };
         return Err(Error::Topology {
             method: method.to_string(),
-            msg: format!("{method} needs a simply connected open surface (one boundary loop, genus 0), but this is {what}"),
+            msg: format!(
+                "{method} needs a simply connected open surface (one boundary loop, genus 0), but this is {what}"
+            ),
         });
     }
     crate::population::check_population(population, mesh.n_faces())?;

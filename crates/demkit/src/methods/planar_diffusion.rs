@@ -8,12 +8,12 @@
 //!   shortened locally where a triangle would collapse, as the DEM paper's §7.3 suggests.
 
 use super::{Progress, StopReason};
-use crate::fem::{cotangent_weights, face_gradient, lumped_mass, VertexFaces};
+use crate::Result;
+use crate::fem::{VertexFaces, cotangent_weights, face_gradient, lumped_mass};
 use crate::geometry::{face_areas, signed_area_2d};
 use crate::init::shape::Shape;
 use crate::linalg::{CachedCholesky, StiffnessPattern};
 use rayon::prelude::*;
-use crate::Result;
 
 /// A planar diffusion problem: an (extended) triangulation whose first `n_roi_faces` faces and
 /// `n_roi_vertices` vertices are the region of interest, the rest a sea (possibly empty).
@@ -57,7 +57,11 @@ struct Measure {
 }
 
 /// Runs the iteration from the flip-free map `r` (z = 0).
-pub(crate) fn run(problem: &Problem, mut r: Vec<[f64; 3]>, progress: &mut dyn FnMut(Progress)) -> Result<Outcome> {
+pub(crate) fn run(
+    problem: &Problem,
+    mut r: Vec<[f64; 3]>,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Outcome> {
     let n = r.len();
     let faces = problem.faces;
     let (nv, nf) = (problem.n_roi_vertices, problem.n_roi_faces);
@@ -71,7 +75,12 @@ pub(crate) fn run(problem: &Problem, mut r: Vec<[f64; 3]>, progress: &mut dyn Fn
 
     let measure = |r: &[[f64; 3]]| -> (Measure, Vec<f64>, Vec<f64>) {
         let areas = face_areas(r, faces);
-        let rho_f: Vec<f64> = problem.population.iter().zip(&areas).map(|(p, a)| p / a).collect();
+        let rho_f: Vec<f64> = problem
+            .population
+            .iter()
+            .zip(&areas)
+            .map(|(p, a)| p / a)
+            .collect();
         let rho_v = incidence.apply(&areas, &rho_f);
         let roi = &rho_v[..nv];
         let mean = roi.iter().sum::<f64>() / nv as f64;
@@ -84,7 +93,14 @@ pub(crate) fn run(problem: &Problem, mut r: Vec<[f64; 3]>, progress: &mut dyn Fn
             .map(|(p, a)| ((a / sa) / (p / sp)).ln().abs())
             .sum::<f64>()
             / nf as f64;
-        (Measure { sd_over_mean: sd / mean, error }, areas, rho_v)
+        (
+            Measure {
+                sd_over_mean: sd / mean,
+                error,
+            },
+            areas,
+            rho_v,
+        )
     };
 
     let (mut m, mut areas, mut rho_v) = measure(&r);
@@ -92,7 +108,12 @@ pub(crate) fn run(problem: &Problem, mut r: Vec<[f64; 3]>, progress: &mut dyn Fn
     let mut best = (m.error, r.clone());
     let mut since_best = 0usize;
     if m.sd_over_mean < problem.epsilon {
-        return Ok(Outcome { positions: r, iterations: 0, history, stop_reason: StopReason::Tolerance });
+        return Ok(Outcome {
+            positions: r,
+            iterations: 0,
+            history,
+            stop_reason: StopReason::Tolerance,
+        });
     }
     let mut stop_reason = StopReason::MaxIter;
     let mut iterations = 0;
@@ -135,7 +156,11 @@ pub(crate) fn run(problem: &Problem, mut r: Vec<[f64; 3]>, progress: &mut dyn Fn
         let (m2, a2, rv2) = measure(&r);
         (m, areas, rho_v) = (m2, a2, rv2);
         history.push(m.sd_over_mean);
-        progress(Progress { iteration: it, max_iter: problem.max_iter, error: m.sd_over_mean });
+        progress(Progress {
+            iteration: it,
+            max_iter: problem.max_iter,
+            error: m.sd_over_mean,
+        });
         if m.error < best.0 * (1.0 - 1e-4) {
             best = (m.error, r.clone());
             since_best = 0;
@@ -152,7 +177,12 @@ pub(crate) fn run(problem: &Problem, mut r: Vec<[f64; 3]>, progress: &mut dyn Fn
             break;
         }
     }
-    Ok(Outcome { positions: best.1, iterations, history, stop_reason })
+    Ok(Outcome {
+        positions: best.1,
+        iterations,
+        history,
+        stop_reason,
+    })
 }
 
 fn has_flip(r: &[[f64; 3]], faces: &[[u32; 3]]) -> bool {
@@ -197,7 +227,10 @@ pub(crate) fn collapse_time(p: [[f64; 3]; 3], s: [[f64; 2]; 3]) -> f64 {
     // Numerically stable roots of c t² + b t + a.
     let q = -0.5 * (b + b.signum() * sq);
     let (t1, t2) = (q / c, if q != 0.0 { a / q } else { f64::INFINITY });
-    [t1, t2].into_iter().filter(|&t| t > 0.0).fold(f64::INFINITY, f64::min)
+    [t1, t2]
+        .into_iter()
+        .filter(|&t| t > 0.0)
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Moves `r` by `step` without flipping any triangle, keeping a margin: the step is scaled
@@ -214,8 +247,11 @@ fn safe_update(problem: &Problem, r: &mut Vec<[f64; 3]>, step: &[[f64; 2]]) {
         .reduce(|| f64::INFINITY, f64::min);
     let mut tau = (0.5 * t_min).min(1.0);
     for _ in 0..12 {
-        let mut proposal: Vec<[f64; 3]> =
-            r.iter().zip(step).map(|(p, s)| [p[0] + tau * s[0], p[1] + tau * s[1], 0.0]).collect();
+        let mut proposal: Vec<[f64; 3]> = r
+            .iter()
+            .zip(step)
+            .map(|(p, s)| [p[0] + tau * s[0], p[1] + tau * s[1], 0.0])
+            .collect();
         project_shape(problem, &mut proposal);
         if !has_flip(&proposal, faces) {
             *r = proposal;
@@ -236,7 +272,10 @@ mod tests {
         let s = [[0.0, 0.0], [0.0, 0.0], [0.0, -2.0]];
         assert!((collapse_time(p, s) - 0.5).abs() < 1e-15);
         // Moving up never collapses; a rigid translation never collapses.
-        assert_eq!(collapse_time(p, [[0.0, 0.0], [0.0, 0.0], [0.0, 2.0]]), f64::INFINITY);
+        assert_eq!(
+            collapse_time(p, [[0.0, 0.0], [0.0, 0.0], [0.0, 2.0]]),
+            f64::INFINITY
+        );
         assert_eq!(collapse_time(p, [[1.0, 2.0]; 3]), f64::INFINITY);
     }
 
@@ -250,8 +289,15 @@ mod tests {
                 [0.4 * a.cos(), 0.4 * a.sin()]
             })
             .collect();
-        let full: Vec<[f64; 3]> = pos.iter().zip(&step).map(|(p, s)| [p[0] + s[0], p[1] + s[1], 0.0]).collect();
-        assert!(has_flip(&full, &faces), "the test step must be one that flips");
+        let full: Vec<[f64; 3]> = pos
+            .iter()
+            .zip(&step)
+            .map(|(p, s)| [p[0] + s[0], p[1] + s[1], 0.0])
+            .collect();
+        assert!(
+            has_flip(&full, &faces),
+            "the test step must be one that flips"
+        );
         let problem = Problem {
             faces: &faces,
             population: vec![1.0; faces.len()],

@@ -27,7 +27,11 @@ pub fn triangle_beltrami(s: [[f64; 2]; 3], t: [[f64; 2]; 3]) -> Complex64 {
     let fzbar = Complex64::new(a - d, c + b);
     if fz.norm_sqr() == 0.0 {
         // f_z = 0: orientation-reversing (anti-conformal) or constant map.
-        return if fzbar.norm_sqr() == 0.0 { Complex64::new(1.0, 0.0) } else { Complex64::new(f64::INFINITY, 0.0) };
+        return if fzbar.norm_sqr() == 0.0 {
+            Complex64::new(1.0, 0.0)
+        } else {
+            Complex64::new(f64::INFINITY, 0.0)
+        };
     }
     fzbar / fz
 }
@@ -38,19 +42,30 @@ fn xy(p: [f64; 3]) -> [f64; 2] {
 
 /// Beltrami coefficient per face of the map from the planar mesh `source` (x, y) to the planar
 /// mesh `target` (x, y), same connectivity.
-pub fn beltrami_coefficient(source: &[[f64; 3]], target: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<Complex64> {
+pub fn beltrami_coefficient(
+    source: &[[f64; 3]],
+    target: &[[f64; 3]],
+    faces: &[[u32; 3]],
+) -> Vec<Complex64> {
     faces
         .par_iter()
         .map(|f| {
             let [i, j, k] = f.map(|v| v as usize);
-            triangle_beltrami([xy(source[i]), xy(source[j]), xy(source[k])], [xy(target[i]), xy(target[j]), xy(target[k])])
+            triangle_beltrami(
+                [xy(source[i]), xy(source[j]), xy(source[k])],
+                [xy(target[i]), xy(target[j]), xy(target[k])],
+            )
         })
         .collect()
 }
 
 /// Beltrami coefficient per face of the map from a surface in R³ (each triangle in its own
 /// orthonormal frame, [`local_frame`]) to the planar mesh `target` (x, y).
-pub fn beltrami_coefficient_surface(surface: &[[f64; 3]], target: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<Complex64> {
+pub fn beltrami_coefficient_surface(
+    surface: &[[f64; 3]],
+    target: &[[f64; 3]],
+    faces: &[[u32; 3]],
+) -> Vec<Complex64> {
     faces
         .par_iter()
         .map(|f| {

@@ -3,8 +3,8 @@
 //! symmetric positive definite coefficient matrix A(μ) of (3.8), discretised with linear
 //! finite elements (the "generalized Laplacian") and Dirichlet boundary values.
 
-use crate::linalg::{CachedCholesky, StiffnessPattern};
 use crate::Result;
+use crate::linalg::{CachedCholesky, StiffnessPattern};
 use num_complex::Complex64;
 use rayon::prelude::*;
 
@@ -12,13 +12,18 @@ use rayon::prelude::*;
 /// (x, y; counter-clockwise faces): entry `c` is `−Area(T) ∇φ_a · A_T ∇φ_b` for the other two
 /// corners `a, b`. With μ = 0 (A = I) these are the cotangent weights `½ cot θ_c`.
 /// Requires |μ| < 1 on every face (use [`super::truncate`]).
-pub fn generalized_laplacian_weights(source: &[[f64; 3]], faces: &[[u32; 3]], mu: &[Complex64]) -> Vec<[f64; 3]> {
+pub fn generalized_laplacian_weights(
+    source: &[[f64; 3]],
+    faces: &[[u32; 3]],
+    mu: &[Complex64],
+) -> Vec<[f64; 3]> {
     faces
         .par_iter()
         .zip(mu.par_iter())
         .map(|(f, m)| {
             let p = f.map(|v| source[v as usize]);
-            let twice_area = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+            let twice_area = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
             if twice_area <= 0.0 {
                 return [0.0; 3];
             }
@@ -33,7 +38,9 @@ pub fn generalized_laplacian_weights(source: &[[f64; 3]], faces: &[[u32; 3]], mu
                 let (b, c) = (p[(k + 1) % 3], p[(k + 2) % 3]);
                 [-(c[1] - b[1]), c[0] - b[0]]
             });
-            let form = |x: [f64; 2], y: [f64; 2]| x[0] * (a1 * y[0] + a2 * y[1]) + x[1] * (a2 * y[0] + a3 * y[1]);
+            let form = |x: [f64; 2], y: [f64; 2]| {
+                x[0] * (a1 * y[0] + a2 * y[1]) + x[1] * (a2 * y[0] + a3 * y[1])
+            };
             // Area ∇φ_a·A∇φ_b = form(g_a, g_b) / (4 Area) = form / (2 · twice_area).
             std::array::from_fn(|c| -form(g[(c + 1) % 3], g[(c + 2) % 3]) / (2.0 * twice_area))
         })
@@ -57,13 +64,23 @@ impl LinearBeltramiSolver {
     pub fn new(n_vertices: usize, faces: &[[u32; 3]], fixed: &[bool]) -> Result<Self> {
         let pattern = StiffnessPattern::new(n_vertices, faces, Some(fixed));
         let cholesky = CachedCholesky::new(&pattern)?;
-        Ok(Self { faces: faces.to_vec(), fixed: fixed.to_vec(), pattern, cholesky })
+        Ok(Self {
+            faces: faces.to_vec(),
+            fixed: fixed.to_vec(),
+            pattern,
+            cholesky,
+        })
     }
 
     /// Reconstructs the map with Beltrami coefficient `mu` (per face, |μ| < 1) on the planar
     /// `source` mesh, with fixed vertices sent to `boundary[v]` (other entries are ignored).
     /// Returns the planar image of every vertex (z = 0).
-    pub fn solve(&self, source: &[[f64; 3]], mu: &[Complex64], boundary: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
+    pub fn solve(
+        &self,
+        source: &[[f64; 3]],
+        mu: &[Complex64],
+        boundary: &[[f64; 3]],
+    ) -> Result<Vec<[f64; 3]>> {
         let w = generalized_laplacian_weights(source, &self.faces, mu);
         let mut values = vec![0.0; self.pattern.nnz()];
         self.pattern.assemble(&w, &[], &mut values);
@@ -138,8 +155,14 @@ mod tests {
         };
         let target: Vec<[f64; 3]> = pos.iter().map(|&p| f(p)).collect();
         let lbs = LinearBeltramiSolver::new(pos.len(), &faces, &boundary).unwrap();
-        let out = lbs.solve(&pos, &vec![Complex64::new(0.0, 0.0); faces.len()], &target).unwrap();
-        let err = out.iter().zip(&target).map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()).fold(0.0, f64::max);
+        let out = lbs
+            .solve(&pos, &vec![Complex64::new(0.0, 0.0); faces.len()], &target)
+            .unwrap();
+        let err = out
+            .iter()
+            .zip(&target)
+            .map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt())
+            .fold(0.0, f64::max);
         assert!(err < 1e-3, "max error {err}");
         let mu = beltrami_coefficient(&pos, &out, &faces);
         let mean: f64 = mu.iter().map(|m| m.norm()).sum::<f64>() / mu.len() as f64;

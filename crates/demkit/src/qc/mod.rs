@@ -4,5 +4,7 @@
 mod beltrami;
 mod lbs;
 
-pub use beltrami::{beltrami_coefficient, beltrami_coefficient_surface, triangle_beltrami, truncate};
-pub use lbs::{generalized_laplacian_weights, LinearBeltramiSolver};
+pub use beltrami::{
+    beltrami_coefficient, beltrami_coefficient_surface, triangle_beltrami, truncate,
+};
+pub use lbs::{LinearBeltramiSolver, generalized_laplacian_weights};
