@@ -6,7 +6,7 @@ use std::path::PathBuf;
 /// demkit: density-equalizing maps (area-preserving parameterizations, cartograms, lenses)
 /// of triangulated surfaces.
 #[derive(Parser, Debug)]
-#[command(name = "demkit", version, about, long_about = None)]
+#[command(name = "demkit", version, about, long_about = None, allow_negative_numbers = true)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -14,6 +14,7 @@ pub struct Cli {
 
 /// The subcommands.
 #[derive(Subcommand, Debug)]
+#[allow(clippy::large_enum_variant)] // parsed once; boxing would only add noise
 pub enum Command {
     /// Print a mesh's counts, topology and validation findings.
     Info(InfoArgs),
@@ -78,6 +79,7 @@ impl Method {
 
 /// `demkit map MESH --out OUT [...]`
 #[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
 pub struct MapArgs {
     /// The input mesh (.obj, .ply, .off, .stl).
     pub mesh: PathBuf,
@@ -88,7 +90,7 @@ pub struct MapArgs {
     #[arg(long, value_enum, default_value_t = Method::Auto)]
     pub method: Method,
     /// `area`, `uniform`, a FILE with one value per face, or an expression of x, y, z, area.
-    #[arg(long, default_value = "area")]
+    #[arg(long, default_value = "area", allow_hyphen_values = true)]
     pub population: String,
     /// Landmark file: `vertex_index target_x target_y [target_z]` per line.
     #[arg(long)]
@@ -127,6 +129,7 @@ pub struct MapArgs {
 
 /// `demkit generate KIND ... --out FILE`
 #[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
 pub struct GenerateArgs {
     #[command(subcommand)]
     pub kind: GenerateKind,
@@ -179,7 +182,8 @@ pub enum GenerateKind {
     },
     /// The unit disk minus circular holes, each given as cx:cy:r.
     DiskHoles {
-        #[arg(long = "hole", value_name = "CX:CY:R", num_args = 1..)]
+        /// A circular hole CX:CY:R; repeat the option for several holes.
+        #[arg(long = "hole", value_name = "CX:CY:R", allow_hyphen_values = true)]
         holes: Vec<String>,
         #[arg(long, default_value_t = 40)]
         resolution: usize,

@@ -66,7 +66,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         }
         other => {
             bar.finish();
-            return Err(not_implemented(other));
+            return Err(not_implemented(other, a.method == Method::Auto));
         }
     };
     bar.finish();
@@ -154,7 +154,7 @@ fn resolve_method(a: &MapArgs, boundaries: usize, genus: i64) -> Result<Method, 
     })
 }
 
-fn not_implemented(m: Method) -> Failure {
+fn not_implemented(m: Method, chosen_by_topology: bool) -> Failure {
     let what = match m {
         Method::Sdem | Method::Lsdem | Method::SphericalConformal => "genus-0 closed surfaces",
         Method::Deq | Method::Ldeq | Method::CircleConformal => {
@@ -163,11 +163,19 @@ fn not_implemented(m: Method) -> Failure {
         Method::Tdem => "genus-one closed surfaces",
         _ => "this input",
     };
-    Failure::input(format!(
-        "this mesh needs --method {} (for {what}), which this version of demkit does not implement yet; \
-         disks are mapped with --method dem or dem-shape",
-        m.name()
-    ))
+    if chosen_by_topology {
+        Failure::input(format!(
+            "this mesh needs --method {} (for {what}), which this version of demkit does not implement yet; \
+             disks are mapped with --method dem or dem-shape",
+            m.name()
+        ))
+    } else {
+        Failure::input(format!(
+            "--method {} (for {what}) is not implemented in this version of demkit; \
+             disks are mapped with --method dem or dem-shape",
+            m.name()
+        ))
+    }
 }
 
 fn warn_unused(a: &MapArgs, m: Method) {

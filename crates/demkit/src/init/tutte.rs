@@ -125,9 +125,9 @@ pub fn flatten_with_fallback(
             )));
         }
         if let Ok(map) = fixed_boundary_map(positions, faces, boundary, boundary_positions, weights)
+            && map.iter().all(|p| p[0].is_finite() && p[1].is_finite())
+            && count_nonpositive(&map, faces) == 0
         {
-            if map.iter().all(|p| p[0].is_finite() && p[1].is_finite())
-                && count_nonpositive(&map, faces) == 0
             {
                 return Ok((map, weights));
             }

@@ -202,12 +202,20 @@ pub(crate) fn parse_vertex<'a>(
     let mut p = [0.0; 3];
     for (k, x) in p.iter_mut().enumerate() {
         let t = toks.next().ok_or_else(|| {
-            parse_error(path, line_no, format!("vertex with {k} coordinates: 3 are needed"))
+            parse_error(
+                path,
+                line_no,
+                format!("vertex with {k} coordinates: 3 are needed"),
+            )
         })?;
         *x = parse_f64(t).ok_or_else(|| number_error(path, line_no, t))?;
     }
     if !p.iter().all(|x| x.is_finite()) {
-        return Err(parse_error(path, line_no, format!("{what} has a non-finite coordinate")));
+        return Err(parse_error(
+            path,
+            line_no,
+            format!("{what} has a non-finite coordinate"),
+        ));
     }
     Ok(p)
 }

@@ -207,11 +207,11 @@ impl StiffnessPattern {
     pub fn mul(&self, values: &[f64], x: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; self.n_unknowns];
         for col in 0..self.n_unknowns {
-            for k in self.col_ptr[col]..self.col_ptr[col + 1] {
-                let row = self.row_idx[k];
-                y[row] += values[k] * x[col];
+            let range = self.col_ptr[col]..self.col_ptr[col + 1];
+            for (&row, &v) in self.row_idx[range.clone()].iter().zip(&values[range]) {
+                y[row] += v * x[col];
                 if row != col {
-                    y[col] += values[k] * x[row];
+                    y[col] += v * x[row];
                 }
             }
         }

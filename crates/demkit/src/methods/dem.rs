@@ -170,10 +170,8 @@ pub(crate) fn check_config_values(epsilon: f64, dt: Option<f64>, max_iter: usize
             "--epsilon must be positive, got {epsilon}"
         )));
     }
-    if let Some(dt) = dt {
-        if !(dt > 0.0 && dt.is_finite()) {
-            return Err(Error::Argument(format!("--dt must be positive, got {dt}")));
-        }
+    if let Some(dt) = dt.filter(|dt| !(*dt > 0.0 && dt.is_finite())) {
+        return Err(Error::Argument(format!("--dt must be positive, got {dt}")));
     }
     if max_iter == 0 {
         return Err(Error::Argument("--max-iter must be at least 1".into()));

@@ -82,9 +82,11 @@ pub(crate) fn run(
             .map(|(p, a)| p / a)
             .collect();
         let rho_v = incidence.apply(&areas, &rho_f);
+        // sd of ρ/mean rather than sd(ρ)/mean: squares of tiny densities would underflow.
         let roi = &rho_v[..nv];
         let mean = roi.iter().sum::<f64>() / nv as f64;
-        let sd = (roi.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / nv as f64).sqrt();
+        let sd_over_mean =
+            (roi.iter().map(|x| (x / mean - 1.0).powi(2)).sum::<f64>() / nv as f64).sqrt();
         let sp: f64 = problem.population[..nf].iter().sum();
         let sa: f64 = areas[..nf].iter().sum();
         let error = problem.population[..nf]
@@ -95,7 +97,7 @@ pub(crate) fn run(
             / nf as f64;
         (
             Measure {
-                sd_over_mean: sd / mean,
+                sd_over_mean,
                 error,
             },
             areas,

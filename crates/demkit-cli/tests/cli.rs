@@ -1,0 +1,748 @@
+//! End-to-end tests of the `demkit` binary (DESIGN.md, "Command line" and "Report"): bad input
+//! gives exit code 2 with one `error:` line naming the problem; maps, reports, `info` and
+//! `generate` do what the design says. Every test works in its own scratch directory on meshes
+//! it writes itself, so `cargo test` needs no data files.
+
+mod common;
+
+use common::{Scratch, json, json_file, parse_obj, parse_ply};
+use serde_json::Value;
+
+/// A square split into four triangles around its centre: a small valid disk with 4 faces.
+const FAN: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 0\n\
+                   f 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n";
+
+/// `demkit map MESH --out o.obj EXTRA...` in `s`.
+fn map(s: &Scratch, mesh: &str, extra: &[&str]) -> common::Output {
+    let mut args = vec!["map", mesh, "--out", "o.obj"];
+    args.extend_from_slice(extra);
+    s.run(&args)
+}
+
+/// Writes `text` as `bad.obj` and maps it.
+fn map_obj_text(s: &Scratch, text: &str) -> common::Output {
+    s.write("bad.obj", text);
+    map(s, "bad.obj", &[])
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bad input: exit code 2, one `error:` line that names the problem, never a panic.
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn empty_file_is_refused() {
+    let s = Scratch::new("empty");
+    map_obj_text(&s, "").input_error_naming(&["bad.obj", "empty"]);
+}
+
+#[test]
+fn obj_without_faces_is_refused() {
+    let s = Scratch::new("nofaces");
+    map_obj_text(&s, "v 0 0 0\nv 1 0 0\nv 0 1 0\n").input_error_naming(&["bad.obj", "no faces"]);
+}
+
+#[test]
+fn unreadable_number_names_the_line() {
+    let s = Scratch::new("number");
+    let line = map_obj_text(&s, "v 0 0 0\nv 1 0 0\nv 0 x 0\nf 1 2 3\n").input_error();
+    assert!(
+        line.contains(":3:") || line.contains("line 3"),
+        "the error should name line 3: {line}"
+    );
+    assert!(
+        line.contains("'x'"),
+        "the error should quote the bad token: {line}"
+    );
+}
+
+#[test]
+fn face_index_out_of_range_is_refused() {
+    let s = Scratch::new("index");
+    let line = map_obj_text(&s, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n")
+        .input_error_naming(&["out of range", "4"]);
+    assert!(
+        line.contains(":4:") || line.contains("line 4"),
+        "should name line 4: {line}"
+    );
+}
+
+#[test]
+fn nan_coordinate_is_refused() {
+    let s = Scratch::new("nan");
+    let line = map_obj_text(&s, "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n").input_error();
+    let lower = line.to_lowercase();
+    assert!(
+        lower.contains("finite") || lower.contains("nan"),
+        "the error should say the coordinate is not a finite number: {line}"
+    );
+    assert!(
+        line.contains(":3:") || line.contains("vertex 2"),
+        "should name where: {line}"
+    );
+}
+
+#[test]
+fn non_manifold_edge_is_refused() {
+    let s = Scratch::new("manifold");
+    // Three triangles share the edge (0, 1).
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 0 -1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
+    map_obj_text(&s, text).input_error_naming(&["manifold"]);
+}
+
+#[test]
+fn zero_area_face_is_refused() {
+    let s = Scratch::new("zeroarea");
+    // Face 1 has collinear vertices (0,0), (1,0), (2,0).
+    let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n";
+    map_obj_text(&s, text).input_error_naming(&["face 1", "area"]);
+}
+
+#[test]
+fn missing_file_is_refused() {
+    let s = Scratch::new("missing");
+    map(&s, "nowhere.obj", &[]).input_error_naming(&["nowhere.obj"]);
+}
+
+#[test]
+fn quad_face_is_refused() {
+    let s = Scratch::new("quad");
+    let line = map_obj_text(&s, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n")
+        .input_error_naming(&["triangle"]);
+    assert!(
+        line.contains(":5:") || line.contains("line 5"),
+        "should name line 5: {line}"
+    );
+}
+
+#[test]
+fn population_file_too_short_is_refused() {
+    let s = Scratch::new("popshort");
+    s.write("fan.obj", FAN);
+    s.write("pop.txt", "1\n2\n");
+    map(&s, "fan.obj", &["--population", "pop.txt"]).input_error_naming(&["2 values", "4 faces"]);
+}
+
+#[test]
+fn population_file_with_a_negative_value_is_refused() {
+    let s = Scratch::new("popneg");
+    s.write("fan.obj", FAN);
+    s.write("pop.txt", "# one value per face\n1\n1\n-1\n1\n");
+    map(&s, "fan.obj", &["--population", "pop.txt"])
+        .input_error_naming(&["face 2", "-1", "positive"]);
+}
+
+#[test]
+fn population_file_with_nan_is_refused() {
+    let s = Scratch::new("popnan");
+    s.write("fan.obj", FAN);
+    s.write("pop.txt", "1\n1\nNaN\n1\n");
+    map(&s, "fan.obj", &["--population", "pop.txt"]).input_error_naming(&["face 2", "nan"]);
+}
+
+#[test]
+fn population_file_of_zeros_is_refused() {
+    let s = Scratch::new("popzero");
+    s.write("fan.obj", FAN);
+    s.write("pop.txt", "0\n0\n\n0\n0\n");
+    map(&s, "fan.obj", &["--population", "pop.txt"]).input_error_naming(&["zero"]);
+}
+
+#[test]
+fn population_file_with_text_names_the_line() {
+    let s = Scratch::new("poptext");
+    s.write("fan.obj", FAN);
+    s.write("pop.txt", "1\n1\nabc\n1\n");
+    let line = map(&s, "fan.obj", &["--population", "pop.txt"]).input_error_naming(&["abc"]);
+    assert!(
+        line.contains(":3:") || line.contains("line 3"),
+        "should name line 3: {line}"
+    );
+}
+
+#[test]
+fn population_expression_with_unknown_variable_is_refused() {
+    let s = Scratch::new("popvar");
+    s.write("fan.obj", FAN);
+    map(&s, "fan.obj", &["--population", "1+q*x"]).input_error_naming(&["variable", "'q'"]);
+}
+
+#[test]
+fn closed_mesh_is_refused_by_dem() {
+    let s = Scratch::new("closeddem");
+    s.generate(&["icosphere", "--subdivisions", "1", "--out", "s.obj"]);
+    map(&s, "s.obj", &["--method", "dem"]).input_error_naming(&["dem", "closed"]);
+}
+
+#[test]
+fn closed_mesh_is_refused_by_dem_shape() {
+    let s = Scratch::new("closedshape");
+    s.generate(&["icosphere", "--subdivisions", "1", "--out", "s.obj"]);
+    map(&s, "s.obj", &["--method", "dem-shape"]).input_error_naming(&["dem-shape", "closed"]);
+}
+
+#[test]
+fn auto_on_a_closed_sphere_names_the_needed_method() {
+    let s = Scratch::new("autosphere");
+    s.generate(&["icosphere", "--subdivisions", "1", "--out", "s.obj"]);
+    map(&s, "s.obj", &[]).input_error_naming(&["sdem"]);
+    map(&s, "s.obj", &["--method", "auto"]).input_error_naming(&["sdem"]);
+}
+
+#[test]
+fn bad_shape_is_refused() {
+    let s = Scratch::new("shape");
+    s.write("fan.obj", FAN);
+    map(
+        &s,
+        "fan.obj",
+        &["--method", "dem-shape", "--shape", "rectangle:3"],
+    )
+    .input_error_naming(&["rectangle:3"]);
+    map(
+        &s,
+        "fan.obj",
+        &["--method", "dem-shape", "--shape", "hexagon"],
+    )
+    .input_error_naming(&["hexagon"]);
+    map(
+        &s,
+        "fan.obj",
+        &["--method", "dem-shape", "--shape", "ellipse:2:-1"],
+    )
+    .input_error_naming(&["ellipse:2:-1"]);
+}
+
+#[test]
+fn stl_output_is_refused() {
+    let s = Scratch::new("stl");
+    s.write("fan.obj", FAN);
+    s.run(&["map", "fan.obj", "--out", "o.stl"])
+        .input_error_naming(&["o.stl", ".obj"]);
+    assert!(!s.path("o.stl").exists(), "nothing should be written");
+}
+
+#[test]
+fn negative_epsilon_is_refused() {
+    let s = Scratch::new("epsilon");
+    s.write("fan.obj", FAN);
+    map(&s, "fan.obj", &["--epsilon=-1"]).input_error_naming(&["epsilon", "-1"]);
+    // As separate words clap sees "-1" as a flag; the message must still name the value.
+    map(&s, "fan.obj", &["--epsilon", "-1"]).input_error_naming(&["-1"]);
+    map(&s, "fan.obj", &["--epsilon", "0"]).input_error_naming(&["epsilon"]);
+}
+
+#[test]
+fn zero_max_iter_is_refused() {
+    let s = Scratch::new("maxiter");
+    s.write("fan.obj", FAN);
+    map(&s, "fan.obj", &["--max-iter", "0"]).input_error_naming(&["max-iter"]);
+}
+
+#[test]
+fn unknown_method_is_refused() {
+    let s = Scratch::new("method");
+    s.write("fan.obj", FAN);
+    map(&s, "fan.obj", &["--method", "foo"]).input_error_naming(&["foo", "method"]);
+}
+
+#[test]
+fn info_on_a_missing_file_is_refused() {
+    let s = Scratch::new("infomissing");
+    s.run(&["info", "nowhere.obj"])
+        .input_error_naming(&["nowhere.obj"]);
+    s.run(&["info", "nowhere.obj", "--json"])
+        .input_error_naming(&["nowhere.obj"]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Success paths.
+// ---------------------------------------------------------------------------------------------
+
+/// The value at `path` (keys separated by '.') of a JSON object.
+fn at<'a>(v: &'a Value, path: &str) -> &'a Value {
+    path.split('.').fold(v, |v, k| {
+        v.get(k)
+            .unwrap_or_else(|| panic!("report has no '{path}':\n{v:#}"))
+    })
+}
+
+fn number(v: &Value, path: &str) -> f64 {
+    at(v, path)
+        .as_f64()
+        .unwrap_or_else(|| panic!("'{path}' should be a number, got {}", at(v, path)))
+}
+
+fn count(v: &Value, path: &str) -> u64 {
+    at(v, path).as_u64().unwrap_or_else(|| {
+        panic!(
+            "'{path}' should be a non-negative integer, got {}",
+            at(v, path)
+        )
+    })
+}
+
+/// Checks every field of DESIGN.md's report for a converged run of `method` on `input`.
+fn check_report(r: &Value, method: &str, input: &common::Mesh, boundaries: u64) {
+    assert_eq!(at(r, "method").as_str(), Some(method), "{r:#}");
+    assert_eq!(count(r, "input.vertices"), input.positions.len() as u64);
+    assert_eq!(count(r, "input.faces"), input.faces.len() as u64);
+    assert_eq!(count(r, "input.boundaries"), boundaries);
+    assert_eq!(at(r, "input.genus").as_i64(), Some(0));
+    assert_eq!(at(r, "converged").as_bool(), Some(true), "{r:#}");
+    let stop = at(r, "stop_reason")
+        .as_str()
+        .expect("stop_reason is a string");
+    assert!(
+        ["tolerance", "stationary"].contains(&stop),
+        "stop_reason {stop}"
+    );
+    let iterations = count(r, "iterations");
+    assert!(iterations >= 1);
+    for t in ["init", "map", "total"] {
+        let x = number(r, &format!("time_s.{t}"));
+        assert!(x.is_finite() && x >= 0.0, "time_s.{t} = {x}");
+    }
+    assert!(number(r, "time_s.total") >= number(r, "time_s.map"));
+    assert_eq!(count(r, "metrics.flipped_triangles"), 0, "{r:#}");
+    for m in [
+        "density_var_initial",
+        "density_var_final",
+        "face_density_var_initial",
+        "face_density_var_final",
+        "density_error_mean",
+        "density_error_sd",
+        "density_median",
+        "density_iqr",
+        "area_ratio_error_mean",
+        "mean_abs_mu",
+        "max_abs_mu",
+    ] {
+        let x = number(r, &format!("metrics.{m}"));
+        assert!(x.is_finite() && x >= 0.0, "metrics.{m} = {x}");
+    }
+    assert!(
+        at(r, "metrics.landmark_error").is_null(),
+        "landmark_error should be null"
+    );
+    assert!(
+        number(r, "metrics.max_abs_mu") < 1.0,
+        "a bijective map has |mu| < 1"
+    );
+    assert!(number(r, "metrics.mean_abs_mu") <= number(r, "metrics.max_abs_mu"));
+    let history = at(r, "history").as_array().expect("history is an array");
+    assert_eq!(
+        history.len() as u64,
+        iterations,
+        "one history entry per iteration"
+    );
+    for (i, h) in history.iter().enumerate() {
+        assert_eq!(count(h, "iteration"), i as u64 + 1, "history[{i}]");
+        let e = number(h, "error");
+        assert!(e.is_finite() && e >= 0.0, "history[{i}].error = {e}");
+    }
+}
+
+/// Asserts the output mesh has the input's vertex count and faces, lies in z = 0 and has no
+/// flipped triangle.
+fn check_planar_output(input: &common::Mesh, output: &common::Mesh) {
+    assert_eq!(
+        output.positions.len(),
+        input.positions.len(),
+        "vertex count"
+    );
+    assert_eq!(output.faces, input.faces, "same faces in the same order");
+    for (i, p) in output.positions.iter().enumerate() {
+        assert!(p.iter().all(|x| x.is_finite()), "vertex {i} = {p:?}");
+        assert_eq!(p[2], 0.0, "vertex {i} should have z = 0: {p:?}");
+    }
+    assert_eq!(
+        output.planar_flipped(),
+        0,
+        "flipped triangles in the output"
+    );
+}
+
+#[test]
+fn map_peaks_writes_obj_and_full_report() {
+    let s = Scratch::new("peaks");
+    s.generate(&["peaks", "--n", "12", "--out", "p.obj"]);
+    let out = s.ok(&[
+        "map", "p.obj", "--out", "o.obj", "--report", "r.json", "--quiet",
+    ]);
+    assert_eq!(out.stderr, "", "--quiet: nothing on stderr");
+    let (input, input_faces) = parse_obj(&s.read("p.obj"));
+    let (output, output_faces) = parse_obj(&s.read("o.obj"));
+    assert_eq!(output_faces, input_faces, "identical face lines");
+    check_planar_output(&input, &output);
+    let r = json_file(&s.path("r.json"));
+    check_report(&r, "dem", &input, 1);
+}
+
+#[test]
+fn map_peaks_writes_ply() {
+    let s = Scratch::new("peaksply");
+    s.generate(&["peaks", "--n", "12", "--out", "p.obj"]);
+    let out = s.ok(&[
+        "map", "p.obj", "--out", "o.ply", "--report", "r.json", "--quiet",
+    ]);
+    assert_eq!(out.stderr, "");
+    let (input, _) = parse_obj(&s.read("p.obj"));
+    let ((nv, nf), output) = parse_ply(&s.read_bytes("o.ply"));
+    assert_eq!(
+        (nv, nf),
+        (input.positions.len(), input.faces.len()),
+        "PLY header counts"
+    );
+    check_planar_output(&input, &output);
+    check_report(&json_file(&s.path("r.json")), "dem", &input, 1);
+    // The same map as with OBJ output.
+    s.ok(&["map", "p.obj", "--out", "o.obj", "--quiet"]);
+    let (obj_out, _) = parse_obj(&s.read("o.obj"));
+    assert_eq!(obj_out, output, "OBJ and PLY outputs hold the same mesh");
+}
+
+#[test]
+fn dem_shape_disk_puts_the_boundary_on_the_unit_circle() {
+    let s = Scratch::new("disk");
+    s.generate(&["polygon", "--sides", "6", "--rings", "6", "--out", "g.obj"]);
+    s.ok(&[
+        "map",
+        "g.obj",
+        "--out",
+        "o.obj",
+        "--method",
+        "dem-shape",
+        "--shape",
+        "disk",
+        "--report",
+        "r.json",
+        "--quiet",
+    ]);
+    let (input, _) = parse_obj(&s.read("g.obj"));
+    let (output, _) = parse_obj(&s.read("o.obj"));
+    check_planar_output(&input, &output);
+    let r = json_file(&s.path("r.json"));
+    check_report(&r, "dem-shape", &input, 1);
+    let boundary = input.boundary_vertices();
+    assert_eq!(
+        boundary.len(),
+        36,
+        "a hexagon with 6 rings has 36 boundary vertices"
+    );
+    for v in boundary {
+        let [x, y, _] = output.positions[v];
+        let r = x.hypot(y);
+        assert!((r - 1.0).abs() <= 1e-9, "boundary vertex {v} at radius {r}");
+    }
+}
+
+#[test]
+fn dem_shape_rectangle_and_ellipse() {
+    let s = Scratch::new("shapes");
+    s.generate(&["polygon", "--sides", "6", "--rings", "6", "--out", "g.obj"]);
+    let (input, _) = parse_obj(&s.read("g.obj"));
+    let boundary = input.boundary_vertices();
+    // (shape, distance-like function that is 1 on the shape's boundary)
+    let shapes: [(&str, fn(f64, f64) -> f64); 2] = [
+        ("rectangle:3:2", |x, y| (x.abs() / 1.5).max(y.abs() / 1.0)),
+        ("ellipse:2:1", |x, y| (x / 2.0).hypot(y)),
+    ];
+    for (shape, level) in shapes {
+        let out = s.run(&[
+            "map",
+            "g.obj",
+            "--out",
+            "o.obj",
+            "--method",
+            "dem-shape",
+            "--shape",
+            shape,
+            "--report",
+            "r.json",
+            "--quiet",
+        ]);
+        out.assert_code(0);
+        let (output, _) = parse_obj(&s.read("o.obj"));
+        check_planar_output(&input, &output);
+        check_report(&json_file(&s.path("r.json")), "dem-shape", &input, 1);
+        for &v in &boundary {
+            let [x, y, _] = output.positions[v];
+            let l = level(x, y);
+            assert!(
+                (l - 1.0).abs() <= 1e-9,
+                "{shape}: boundary vertex {v} at ({x}, {y}), level {l}"
+            );
+        }
+    }
+}
+
+#[test]
+fn population_expression_and_file_agree() {
+    let s = Scratch::new("popexpr");
+    s.generate(&["polygon", "--sides", "6", "--rings", "6", "--out", "g.obj"]);
+    let (input, _) = parse_obj(&s.read("g.obj"));
+    let mut text = String::from("# 1 + (x > 0) at each face centroid\n");
+    for c in input.centroids() {
+        text += if c[0] > 0.0 { "2\n" } else { "1\n" };
+    }
+    s.write("pop.txt", text);
+    let a = s.run(&[
+        "map",
+        "g.obj",
+        "--out",
+        "a.obj",
+        "--population",
+        "1+(x>0)",
+        "--quiet",
+    ]);
+    let b = s.run(&[
+        "map",
+        "g.obj",
+        "--out",
+        "b.obj",
+        "--population",
+        "pop.txt",
+        "--quiet",
+    ]);
+    a.assert_code(0);
+    b.assert_code(0);
+    assert!(
+        s.read_bytes("a.obj") == s.read_bytes("b.obj"),
+        "expression and file maps differ"
+    );
+    // And the population matters: the area-preserving map is a different one.
+    s.ok(&["map", "g.obj", "--out", "c.obj", "--quiet"]);
+    assert!(
+        s.read_bytes("a.obj") != s.read_bytes("c.obj"),
+        "population ignored?"
+    );
+}
+
+#[test]
+fn max_iter_reached_exits_3_and_still_writes() {
+    let s = Scratch::new("exit3");
+    s.generate(&["peaks", "--n", "12", "--out", "p.obj"]);
+    let out = s.run(&[
+        "map",
+        "p.obj",
+        "--out",
+        "o.obj",
+        "--report",
+        "r.json",
+        "--max-iter",
+        "1",
+        "--epsilon",
+        "1e-12",
+        "--quiet",
+    ]);
+    out.assert_code(3);
+    assert!(!out.stderr.contains("panicked"), "{}", out.stderr);
+    let r = json_file(&s.path("r.json"));
+    assert_eq!(at(&r, "converged").as_bool(), Some(false), "{r:#}");
+    assert_eq!(at(&r, "stop_reason").as_str(), Some("max_iter"), "{r:#}");
+    assert_eq!(count(&r, "iterations"), 1);
+    assert_eq!(at(&r, "history").as_array().map(Vec::len), Some(1));
+    let (input, _) = parse_obj(&s.read("p.obj"));
+    let (output, _) = parse_obj(&s.read("o.obj"));
+    check_planar_output(&input, &output);
+}
+
+#[test]
+fn info_json_of_peaks() {
+    let s = Scratch::new("info");
+    s.generate(&["peaks", "--n", "12", "--out", "p.obj"]);
+    let out = s.ok(&["info", "p.obj", "--json"]);
+    let v = json(&out.stdout);
+    assert_eq!(count(&v, "vertices"), 13 * 13);
+    assert_eq!(count(&v, "faces"), 2 * 12 * 12);
+    assert_eq!(count(&v, "boundaries"), 1);
+    assert_eq!(at(&v, "genus").as_i64(), Some(0));
+    // The text form works too.
+    let text = s.ok(&["info", "p.obj"]).stdout;
+    assert!(text.contains("169") && text.contains("288"), "{text}");
+}
+
+#[test]
+fn generate_every_kind() {
+    let s = Scratch::new("generate");
+    // (arguments, boundaries, genus)
+    let kinds: [(&[&str], u64, i64); 9] = [
+        (
+            &[
+                "grid", "--nx", "10", "--ny", "10", "--width", "10", "--height", "10",
+            ],
+            1,
+            0,
+        ),
+        (&["polygon", "--sides", "6", "--rings", "6"], 1, 0),
+        (&["peaks", "--n", "12"], 1, 0),
+        (&["gaussian", "--n", "8"], 1, 0),
+        (&["annulus", "--radial", "3", "--angular", "16"], 2, 0),
+        (&["icosphere", "--subdivisions", "1"], 0, 0),
+        (&["uv-sphere", "--lat", "6", "--lon", "8"], 0, 0),
+        (&["torus", "--major", "12", "--minor", "8"], 0, 1),
+        (
+            &["disk-holes", "--hole", "0.3:0:0.2", "--resolution", "16"],
+            2,
+            0,
+        ),
+    ];
+    for (args, boundaries, genus) in kinds {
+        for ext in ["obj", "ply"] {
+            let file = format!("{}.{ext}", args[0]);
+            let mut all = vec!["generate"];
+            all.extend_from_slice(args);
+            all.extend_from_slice(&["--out", &file]);
+            s.ok(&all);
+            let v = json(&s.ok(&["info", &file, "--json"]).stdout);
+            assert_eq!(count(&v, "boundaries"), boundaries, "{file}: {v:#}");
+            assert_eq!(at(&v, "genus").as_i64(), Some(genus), "{file}: {v:#}");
+            assert_eq!(at(&v, "valid").as_bool(), Some(true), "{file}: {v:#}");
+            assert!(count(&v, "faces") > 0, "{file}");
+        }
+    }
+    s.generate(&[
+        "grid", "--nx", "10", "--ny", "10", "--width", "10", "--height", "10", "--out", "g.obj",
+    ]);
+    let (grid, _) = parse_obj(&s.read("g.obj"));
+    assert_eq!((grid.positions.len(), grid.faces.len()), (121, 200));
+    // A bad hole and a bad extension are input errors.
+    s.run(&[
+        "generate",
+        "disk-holes",
+        "--hole",
+        "0.3:0",
+        "--out",
+        "h.obj",
+    ])
+    .input_error_naming(&["0.3:0"]);
+    s.run(&["generate", "peaks", "--n", "4", "--out", "p.stl"])
+        .input_error_naming(&["p.stl"]);
+}
+
+#[test]
+fn quiet_success_prints_nothing_on_stderr() {
+    let s = Scratch::new("quiet");
+    s.generate(&["polygon", "--sides", "6", "--rings", "6", "--out", "g.obj"]);
+    let out = s.ok(&["map", "g.obj", "--out", "o.obj", "--quiet"]);
+    assert_eq!(out.stderr, "", "--quiet run wrote to stderr");
+    let out = s.ok(&[
+        "map",
+        "g.obj",
+        "--out",
+        "o.obj",
+        "--method",
+        "dem-shape",
+        "--quiet",
+    ]);
+    assert_eq!(out.stderr, "", "--quiet run wrote to stderr");
+    // Without --quiet a one-line summary is fine, but no error line.
+    let out = s.ok(&["map", "g.obj", "--out", "o.obj"]);
+    assert!(!out.stderr.contains("error:"), "{}", out.stderr);
+}
+
+#[test]
+fn identical_runs_give_identical_files() {
+    let s = Scratch::new("determinism");
+    s.generate(&["peaks", "--n", "12", "--out", "p.obj"]);
+    s.generate(&["peaks", "--n", "12", "--out", "p2.obj"]);
+    assert!(
+        s.read_bytes("p.obj") == s.read_bytes("p2.obj"),
+        "generate is not deterministic"
+    );
+    for (x, y) in [("a.obj", "b.obj"), ("a.ply", "b.ply")] {
+        s.ok(&["map", "p.obj", "--out", x, "--quiet"]);
+        s.ok(&["map", "p.obj", "--out", y, "--quiet"]);
+        assert!(s.read_bytes(x) == s.read_bytes(y), "{x} and {y} differ");
+    }
+    // With a data population, stopped early (exit code 3 or 0, the same both times).
+    let args = |out: &'static str| {
+        [
+            "map",
+            "p.obj",
+            "--out",
+            out,
+            "--population",
+            "1+(x>0)",
+            "--max-iter",
+            "10",
+            "--quiet",
+        ]
+    };
+    let (c, d) = (s.run(&args("c.obj")), s.run(&args("d.obj")));
+    assert_eq!(c.code, d.code);
+    assert!(
+        matches!(c.code, Some(0) | Some(3)),
+        "exit code {:?}: {}",
+        c.code,
+        c.stderr
+    );
+    assert!(
+        s.read_bytes("c.obj") == s.read_bytes("d.obj"),
+        "c.obj and d.obj differ"
+    );
+}
+
+#[test]
+fn values_starting_with_a_minus_are_values_not_flags() {
+    let s = Scratch::new("negative");
+    s.generate(&["peaks", "--n", "8", "--out", "p.obj"]);
+    // A negative option value names the option in the error...
+    map(&s, "p.obj", &["--epsilon", "-1"]).input_error_naming(&["epsilon"]);
+    // ...and an expression or a hole may start with a minus.
+    s.ok(&[
+        "map",
+        "p.obj",
+        "--out",
+        "o.obj",
+        "--population",
+        "-x+10",
+        "--quiet",
+    ]);
+    s.ok(&[
+        "generate",
+        "disk-holes",
+        "--hole",
+        "-0.3:0:0.2",
+        "--resolution",
+        "16",
+        "--out",
+        "h.obj",
+    ]);
+}
+
+#[test]
+fn explicitly_requested_unimplemented_method_is_named_as_such() {
+    let s = Scratch::new("explicit");
+    s.generate(&["peaks", "--n", "8", "--out", "p.obj"]);
+    let line =
+        map(&s, "p.obj", &["--method", "sdem"]).input_error_naming(&["sdem", "not implemented"]);
+    assert!(!line.contains("this mesh needs"), "{line}");
+}
+
+#[test]
+fn tiny_populations_are_equalized_like_any_other_scale() {
+    let s = Scratch::new("tiny");
+    s.generate(&["peaks", "--n", "8", "--out", "p.obj"]);
+    for (pop, report) in [("1e-200*area", "a.json"), ("area", "b.json")] {
+        s.ok(&[
+            "map",
+            "p.obj",
+            "--out",
+            "o.obj",
+            "--population",
+            pop,
+            "--report",
+            report,
+            "--quiet",
+        ]);
+    }
+    let a = json(&s.read("a.json"));
+    let b = json(&s.read("b.json"));
+    assert_eq!(a["iterations"], b["iterations"]);
+    let (ea, eb) = (
+        a["metrics"]["density_error_mean"].as_f64().unwrap(),
+        b["metrics"]["density_error_mean"].as_f64().unwrap(),
+    );
+    assert!((ea - eb).abs() < 1e-9, "{ea} vs {eb}");
+}
