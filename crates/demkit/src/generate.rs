@@ -31,6 +31,28 @@ pub use planar::{annulus, disk_with_holes, regular_polygon};
 use crate::{Error, Result};
 
 /// Refuses a count below `min`.
+/// Splits every quad cell `(p, q)` — corners `index(p, q)`, `index(p + 1, q)`,
+/// `index(p + 1, q + 1)`, `index(p, q + 1)`, counter-clockwise — into two triangles along the
+/// same diagonal, in the order the cells come. Shared by the grid, annulus and torus.
+fn split_cells(
+    cells: impl Iterator<Item = (usize, usize)>,
+    index: impl Fn(usize, usize) -> u32,
+    capacity: usize,
+) -> Vec<[u32; 3]> {
+    let mut faces = Vec::with_capacity(capacity);
+    for (p, q) in cells {
+        let (a, b, c, d) = (
+            index(p, q),
+            index(p + 1, q),
+            index(p + 1, q + 1),
+            index(p, q + 1),
+        );
+        faces.push([a, b, c]);
+        faces.push([a, c, d]);
+    }
+    faces
+}
+
 fn at_least(name: &str, value: usize, min: usize) -> Result<()> {
     if value < min {
         Err(Error::Argument(format!(

@@ -172,19 +172,8 @@ pub fn torus(big_r: f64, small_r: f64, n_major: usize, n_minor: usize) -> Result
         }
     }
     let index = |i: usize, j: usize| ((i % n_major) * n_minor + j % n_minor) as u32;
-    let mut faces = Vec::with_capacity(2 * n_vertices.unwrap_or(0));
-    for i in 0..n_major {
-        for j in 0..n_minor {
-            let (a, b, c, d) = (
-                index(i, j),
-                index(i + 1, j),
-                index(i + 1, j + 1),
-                index(i, j + 1),
-            );
-            faces.push([a, b, c]);
-            faces.push([a, c, d]);
-        }
-    }
+    let cells = (0..n_major).flat_map(|i| (0..n_minor).map(move |j| (i, j)));
+    let faces = super::split_cells(cells, index, 2 * n_vertices.unwrap_or(0));
     Ok(TriMesh::new(positions, faces))
 }
 

@@ -124,19 +124,8 @@ fn grid(
         }
     }
     let index = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
-    let mut faces = Vec::with_capacity(n_faces.unwrap_or(0));
-    for j in 0..ny {
-        for i in 0..nx {
-            let (a, b, c, d) = (
-                index(i, j),
-                index(i + 1, j),
-                index(i + 1, j + 1),
-                index(i, j + 1),
-            );
-            faces.push([a, b, c]);
-            faces.push([a, c, d]);
-        }
-    }
+    let cells = (0..ny).flat_map(|j| (0..nx).map(move |i| (i, j)));
+    let faces = super::split_cells(cells, index, n_faces.unwrap_or(0));
     Ok(TriMesh::new(positions, faces))
 }
 

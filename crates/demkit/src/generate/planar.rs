@@ -111,19 +111,8 @@ pub fn annulus(inner_r: f64, outer_r: f64, n_radial: usize, n_angular: usize) ->
         }
     }
     let index = |i: usize, j: usize| (i * n_angular + j % n_angular) as u32;
-    let mut faces = Vec::with_capacity(n_faces.unwrap_or(0));
-    for i in 0..n_radial {
-        for j in 0..n_angular {
-            let (a, b, c, d) = (
-                index(i, j),
-                index(i + 1, j),
-                index(i + 1, j + 1),
-                index(i, j + 1),
-            );
-            faces.push([a, b, c]);
-            faces.push([a, c, d]);
-        }
-    }
+    let cells = (0..n_radial).flat_map(|i| (0..n_angular).map(move |j| (i, j)));
+    let faces = super::split_cells(cells, index, n_faces.unwrap_or(0));
     Ok(TriMesh::new(positions, faces))
 }
 
