@@ -146,15 +146,17 @@ fn shape_prescribed_dem_keeps_the_boundary_on_the_shape() {
             "{shape:?}: {} vs initial {initial}",
             m.density_error_mean
         );
-        // Disk and rectangle reduce the error to about 0.09 from 0.65; the ellipse stalls
-        // around 0.54 (known issue, see README), so only improvement is asserted for it.
-        if !matches!(shape, Shape::Ellipse { .. }) {
-            assert!(
-                m.density_error_mean < 0.2 * initial,
-                "{shape:?}: {} vs initial {initial}",
-                m.density_error_mean
-            );
-        }
+        // Disk and rectangle reduce the error from 0.65 to about 0.11, the ellipse to 0.17.
+        let factor = if matches!(shape, Shape::Ellipse { .. }) {
+            0.3
+        } else {
+            0.2
+        };
+        assert!(
+            m.density_error_mean < factor * initial,
+            "{shape:?}: {} vs initial {initial}",
+            m.density_error_mean
+        );
     }
 }
 

@@ -1,12 +1,12 @@
 //! DEM on the papers' real meshes (from `DEMKIT_DATA`, default `../shared/data` beside the
 //! checkout). Ignored by default: run with `cargo test --release -- --ignored`.
 //!
-//! These assert what demkit guarantees today — convergence, zero flipped triangles, a large
-//! reduction of the initial map's density error, the time budget — and record the accuracy
-//! reached. The DEM issue's accuracy targets for these meshes (density_error_mean ≤ 0.12 on
-//! human_face, ≤ 0.17 on chinese_lion) are not met yet; see README "Results".
+//! Each test asserts convergence, zero flipped triangles, the input's vertex order, a bound on
+//! the final `density_error_mean` (the DEM issue's targets where it gives one) and, in release
+//! builds, the time budget.
 
-use demkit::methods::dem;
+use demkit::init::shape::Shape;
+use demkit::methods::{dem, dem_shape};
 use demkit::metrics::{Domain, compute, density_error, map_areas};
 use demkit::population::{PopulationSpec, face_populations};
 use std::path::PathBuf;
@@ -23,52 +23,99 @@ fn data(rel: &str) -> PathBuf {
 /// The timing checks need the machine to themselves: one real mesh at a time.
 static SERIAL: Mutex<()> = Mutex::new(());
 
-fn check(rel: &str, seconds: f64) {
+fn check(rel: &str, max_error: f64, seconds: f64) {
+    check_method(rel, None, max_error, seconds);
+}
+
+/// Runs DEM (or shape-prescribed DEM onto `shape`) with population area and checks it.
+fn check_method(rel: &str, shape: Option<Shape>, max_error: f64, seconds: f64) {
     let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let mesh = demkit::io::read_mesh(&data(rel)).unwrap();
     let (mesh, _) = demkit::mesh::validate::validate(mesh).unwrap();
     let pop = face_populations(&PopulationSpec::Area, &mesh).unwrap();
     let t = Instant::now();
-    let r = dem::run(&mesh, &pop, &dem::Config::default(), &mut |_| {}).unwrap();
+    let r = match shape {
+        None => dem::run(&mesh, &pop, &dem::Config::default(), &mut |_| {}).unwrap(),
+        Some(shape) => {
+            let c = dem_shape::Config {
+                shape,
+                ..Default::default()
+            };
+            dem_shape::run(&mesh, &pop, &c, &mut |_| {}).unwrap()
+        }
+    };
     let elapsed = t.elapsed().as_secs_f64();
     let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Plane, None);
     let initial = density_error(&pop, &map_areas(&r.initial, &mesh.faces, Domain::Plane).0).0;
     eprintln!(
-        "{rel}: {} iterations ({:?}), density_error_mean {:.4} (initial {:.4}), {} flipped, {:.2} s",
+        "{rel} {shape:?}: {} iterations ({:?}), density_error_mean {:.4} (initial {:.4}), {} flipped, {:.2} s",
         r.iterations, r.stop_reason, m.density_error_mean, initial, m.flipped_triangles, elapsed
     );
     assert!(r.converged);
     assert_eq!(m.flipped_triangles, 0);
     assert_eq!(r.positions.len(), mesh.n_vertices());
     assert!(
-        m.density_error_mean < initial,
-        "no improvement over the initial map"
+        m.density_error_mean <= max_error,
+        "{rel} {shape:?}: density_error_mean {} > {max_error}",
+        m.density_error_mean
     );
+    if let Some(shape) = shape {
+        let topo = demkit::mesh::topology::topology(&mesh);
+        for &v in &topo.boundary_loops[0] {
+            let q = r.positions[v as usize];
+            let p = shape.project([q[0], q[1]]);
+            assert!(
+                (p[0] - q[0]).hypot(p[1] - q[1]) <= 1e-9,
+                "vertex {v} off the shape"
+            );
+        }
+    }
     if !cfg!(debug_assertions) {
         assert!(elapsed <= seconds, "{rel}: {elapsed:.2} s > {seconds} s");
     }
 }
 
+// Targets from the DEM issue (face ≤ 0.12, lion ≤ 0.17, 3 s; hand and brain 15 s); the
+// measured figures are in the README. Hand and brain have no accuracy target in the issue:
+// their bounds guard what demkit reaches today (0.055 and 0.65, from 4.9 and 2.1 initially).
+
 #[test]
 #[ignore = "needs real meshes (DEMKIT_DATA)"]
 fn human_face() {
-    check("open/human_face.obj", 3.0);
+    check("open/human_face.obj", 0.12, 3.0);
 }
 
 #[test]
 #[ignore = "needs real meshes (DEMKIT_DATA)"]
 fn chinese_lion() {
-    check("open/chinese_lion.obj", 3.0);
+    check("open/chinese_lion.obj", 0.17, 3.0);
 }
 
 #[test]
 #[ignore = "needs real meshes (DEMKIT_DATA)"]
 fn hand() {
-    check("open/hand.obj", 15.0);
+    check("open/hand.obj", 0.1, 15.0);
 }
 
 #[test]
 #[ignore = "needs real meshes (DEMKIT_DATA)"]
 fn human_brain() {
-    check("open/human_brain.obj", 15.0);
+    check("open/human_brain.obj", 0.8, 15.0);
+}
+
+#[test]
+#[ignore = "needs real meshes (DEMKIT_DATA)"]
+fn human_face_onto_shapes() {
+    check_method("open/human_face.obj", Some(Shape::Disk), 0.2, 3.0);
+    let rectangle = Shape::Rectangle {
+        width: 3.0,
+        height: 2.0,
+    };
+    check_method("open/human_face.obj", Some(rectangle), 0.2, 3.0);
+    check_method(
+        "open/human_face.obj",
+        Some(Shape::Ellipse { a: 2.0, b: 1.0 }),
+        0.2,
+        3.0,
+    );
 }

@@ -74,6 +74,21 @@ impl VertexFaces {
             .collect()
     }
 
+    /// The plain average of a face function over each vertex's faces, the Whitney
+    /// interpolation (4.27): `f(v) = Σ_T f(T) / |N(v)|`. Vertices without faces get 0.
+    pub fn average(&self, face_values: &[f64]) -> Vec<f64> {
+        (0..self.n_vertices())
+            .into_par_iter()
+            .map(|v| {
+                let fs = self.faces_of(v);
+                if fs.is_empty() {
+                    return 0.0;
+                }
+                fs.iter().map(|&f| face_values[f as usize]).sum::<f64>() / fs.len() as f64
+            })
+            .collect()
+    }
+
     /// W^FV applied to a face vector field (each component averaged as in [`apply`](Self::apply)).
     pub fn apply_vec(&self, face_areas: &[f64], face_values: &[[f64; 3]]) -> Vec<[f64; 3]> {
         (0..self.n_vertices())
@@ -100,6 +115,14 @@ impl VertexFaces {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn plain_average_ignores_areas() {
+        let faces = [[0u32, 1, 2], [0, 2, 3]];
+        let w = VertexFaces::new(4, &faces);
+        let r = w.average(&[2.0, 6.0]);
+        assert_eq!(r, vec![4.0, 2.0, 4.0, 6.0]);
+    }
 
     #[test]
     fn area_weighted_average() {

@@ -1,11 +1,11 @@
 //! Finite-element operators on triangle meshes (DEM paper §4.3 and Appendix B):
 //! cotangent Laplacian weights (4.23)/(B.6), lumped mass (4.24)/(B.8), the face gradient of a
-//! piecewise-linear function (4.37), and face→vertex area-weighted averaging W^FV (4.31).
+//! piecewise-linear function (4.37), and face→vertex averaging: area-weighted W^FV (4.31) and the plain Whitney average (4.27).
 
 mod face_to_vertex;
 mod gradient;
 mod laplacian;
 
 pub use face_to_vertex::VertexFaces;
-pub use gradient::face_gradient;
-pub use laplacian::{cotangent_weights, lumped_mass};
+pub use gradient::{face_gradient, face_gradient_into};
+pub use laplacian::{cotangent_weights, cotangent_weights_into, lumped_mass};

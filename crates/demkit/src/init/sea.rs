@@ -2,8 +2,8 @@
 //! (DEM paper, section 4.2, Algorithm 4, eqs. (4.18)–(4.21)).
 //!
 //! The region of interest (ROI, the initial flattening map r₀) is shrunk into the unit disk,
-//! the gap up to the unit circle is filled with a regular lattice of points at the ROI's mean
-//! edge length and triangulated by a constrained Delaunay triangulation that keeps the ROI's own
+//! the gap up to the unit circle is filled with lattice points, at the ROI's mean edge length
+//! next to the ROI and coarsening geometrically away from it, and triangulated by a constrained Delaunay triangulation that keeps the ROI's own
 //! triangles; the triangulated unit disk D_T is then glued to its image under the reflection
 //! g(z) = 1/z̄ (4.18) along the unit circle (4.19)–(4.21), truncated at |z| ≤ η, and scaled back.
 
@@ -40,11 +40,14 @@ pub struct SeaMesh {
 /// Steps, in that frame:
 /// 1. the ROI is translated to its area centroid and scaled so that its farthest vertex is at
 ///    radius 0.5 (Algorithm 4, step 1);
-/// 2. with `l` the ROI's mean edge length, the gap up to the unit circle is filled with a
-///    hexagonal lattice of spacing `l` (points outside the ROI, at distance ≥ l/2 from its
-///    boundary and with |z| ≤ 1 − l/2) and points on the unit circle at spacing ≈ l (step 2);
-///    the spacing is clamped to at most 0.25 (a coarse ROI still gets a usable sea) and to at
-///    least the value giving 4·10⁶ lattice points in the unit disk (a bound on memory);
+/// 2. with `l` the ROI's mean edge length, the gap up to the unit circle is filled with
+///    hexagonal lattice points graded by distance to the ROI boundary: spacing `l` up to
+///    distance ≈ 3.5 l, then doubling band by band (points at distance ≥ l/2 from the boundary,
+///    outside the ROI, with |z| ≤ 1 − spacing/2), and points on the unit circle at the local
+///    spacing (step 2; the paper fills at the mean edge length everywhere, which on fine meshes
+///    makes the sea several times larger than the ROI for no gain in accuracy);
+///    the finest spacing is clamped to at most 0.25 (a coarse ROI still gets a usable sea) and
+///    to at least the value giving 4·10⁶ lattice points in the unit disk (a bound on memory);
 /// 3. a constrained Delaunay triangulation of the ROI boundary, the lattice and the circle points,
 ///    constrained by the ROI boundary edges, gives the ring between the ROI and the circle; the
 ///    ROI's own faces are kept (step 3);
@@ -74,8 +77,8 @@ pub fn build_sea(
 
 /// [`build_sea`] with the ROI scaled so that its farthest vertex is at `roi_radius` (in (0, 1))
 /// inside the unit circle, instead of 0.5. A larger radius leaves a thinner ring to fill, so
-/// the sea has fewer vertices (about 3× the ROI's at 0.85 against 10× at 0.5) while still
-/// reaching η / roi_radius ROI radii beyond the ROI after reflection.
+/// the sea has fewer vertices, while still reaching η / roi_radius ROI radii beyond the ROI
+/// after reflection.
 pub fn build_sea_with_radius(
     roi_positions: &[[f64; 2]],
     roi_faces: &[[u32; 3]],
@@ -100,8 +103,9 @@ pub fn build_sea_with_radius(
     let spacing = fill_spacing(l);
     let bpoly: Vec<[f64; 2]> = boundary.iter().map(|&v| z[v as usize]).collect();
     let index = BoundaryIndex::new(&bpoly, 0.5 * spacing);
-    let fill = lattice_fill(&index, spacing);
-    let circle = circle_points(spacing);
+    let bands = Bands::new(&bpoly, spacing);
+    let fill = graded_fill(&index, &bands);
+    let circle = circle_points(&bands);
     let (m, c) = (fill.len(), circle.len());
 
     // Uncompacted vertex layout: ROI | fill | circle | reflections of ROI and fill.
@@ -390,40 +394,103 @@ fn fill_spacing(l: f64) -> f64 {
     }
 }
 
-/// Points on the unit circle at spacing ≈ `spacing`, counter-clockwise from (1, 0).
-fn circle_points(spacing: f64) -> Vec<[f64; 2]> {
-    let count = ((2.0 * std::f64::consts::PI / spacing).ceil() as usize).max(8);
-    (0..count)
-        .map(|k| {
-            let t = 2.0 * std::f64::consts::PI * k as f64 / count as f64;
-            [t.cos(), t.sin()]
-        })
-        .collect()
+/// How many lattice spacings each band of the graded fill is wide before the spacing doubles.
+const BAND_WIDTH: f64 = 3.0;
+
+/// The distance bands of the graded fill: level `k` has lattice spacing `s·2^k` and covers the
+/// points whose distance to the ROI boundary lies in `[lo_k, hi_k)`, with `lo_0 = s/2`,
+/// `hi_k = lo_k + BAND_WIDTH·s·2^k` and a gap of a quarter spacing between bands (no two points
+/// of neighbouring levels come closer than that). The last level, the first whose spacing
+/// reaches 0.25, has no upper limit. Near the ROI the sea is as fine as the ROI's own mesh; far
+/// from it, where the density is uniform, it coarsens geometrically — the sea then costs a
+/// multiple of the ROI's boundary length instead of a multiple of the disk's area.
+struct Bands<'a> {
+    /// Per level: spacing, index answering "distance ≥ lo", index answering "distance ≥ hi"
+    /// (`None` for the last level).
+    levels: Vec<(f64, BoundaryIndex<'a>, Option<BoundaryIndex<'a>>)>,
 }
 
-/// Hexagonal lattice points of spacing `s` in |z| ≤ 1 − s/2, outside the ROI polygon and at
-/// distance ≥ s/2 from its boundary edges.
-fn lattice_fill(index: &BoundaryIndex, s: f64) -> Vec<[f64; 2]> {
+impl<'a> Bands<'a> {
+    fn new(poly: &'a [[f64; 2]], s: f64) -> Self {
+        let mut levels = Vec::new();
+        let (mut spacing, mut lo) = (s, 0.5 * s);
+        loop {
+            let last = spacing >= 0.25 || levels.len() >= 16;
+            let hi = lo + BAND_WIDTH * spacing;
+            let upper = (!last).then(|| BoundaryIndex::new(poly, hi));
+            levels.push((spacing, BoundaryIndex::new(poly, lo), upper));
+            if last {
+                break;
+            }
+            spacing *= 2.0;
+            lo = hi + 0.25 * spacing;
+        }
+        Self { levels }
+    }
+
+    /// The spacing wanted at `p` (outside the ROI): that of the finest level whose band
+    /// reaches `p`.
+    fn spacing_at(&self, p: [f64; 2]) -> f64 {
+        for (spacing, _, upper) in &self.levels {
+            match upper {
+                Some(u) if u.far_from_boundary(p) => continue,
+                _ => return *spacing,
+            }
+        }
+        self.levels.last().map_or(0.25, |l| l.0)
+    }
+}
+
+/// Points on the unit circle, counter-clockwise from (1, 0), each at the local spacing of the
+/// graded fill ([`Bands::spacing_at`]) from the previous one.
+fn circle_points(bands: &Bands) -> Vec<[f64; 2]> {
+    let tau = 2.0 * std::f64::consts::PI;
+    let mut angles: Vec<f64> = vec![0.0];
+    loop {
+        let t = *angles.last().unwrap_or(&0.0);
+        let step = bands.spacing_at([t.cos(), t.sin()]).min(tau / 8.0);
+        if t + 1.5 * step > tau {
+            break;
+        }
+        angles.push(t + step);
+    }
+    angles.iter().map(|t| [t.cos(), t.sin()]).collect()
+}
+
+/// The graded fill of the gap between the ROI and the unit circle: for every level of
+/// `bands`, the hexagonal lattice points of its spacing `s` in |z| ≤ 1 − s/2 that lie outside
+/// the ROI polygon and in the level's distance band.
+fn graded_fill(index: &BoundaryIndex, bands: &Bands) -> Vec<[f64; 2]> {
+    let mut out = Vec::new();
+    for (s, lower, upper) in &bands.levels {
+        lattice_points(*s, |p| {
+            if lower.far_from_boundary(p)
+                && upper.as_ref().is_none_or(|u| !u.far_from_boundary(p))
+                && !index.contains(p)
+            {
+                out.push(p);
+            }
+        });
+    }
+    out
+}
+
+/// Calls `keep` with every point of the hexagonal lattice of spacing `s` in |z| ≤ 1 − s/2.
+fn lattice_points(s: f64, mut keep: impl FnMut([f64; 2])) {
     let dy = s * 3f64.sqrt() / 2.0;
     let rmax = 1.0 - 0.5 * s;
     let rows = (rmax / dy).floor() as i64;
     let cols = (rmax / s).ceil() as i64 + 1;
-    let mut out = Vec::new();
     for j in -rows..=rows {
         let y = j as f64 * dy;
         let shift = if j.rem_euclid(2) == 1 { 0.5 * s } else { 0.0 };
         for i in -cols..=cols {
             let x = i as f64 * s + shift;
-            if x * x + y * y > rmax * rmax {
-                continue;
-            }
-            let p = [x, y];
-            if index.far_from_boundary(p) && !index.contains(p) {
-                out.push(p);
+            if x * x + y * y <= rmax * rmax {
+                keep([x, y]);
             }
         }
     }
-    out
 }
 
 /// The constrained Delaunay triangulation of the ROI boundary, the lattice and the circle

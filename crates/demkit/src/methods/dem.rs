@@ -7,10 +7,9 @@
 //! sea (Alg. 4), and deformed by density diffusion until the density is equal; the sea is
 //! dropped and the result rescaled to the input's total area.
 
-use super::disk_input::{default_time_step, disk_boundary};
+use super::disk_input::disk_boundary;
 use super::planar_diffusion::{self, Problem};
 use super::{MapResult, ProgressFn};
-use crate::fem::VertexFaces;
 use crate::geometry::{face_areas, planar_frame, signed_areas_2d};
 use crate::init::boundary_flattening::curvature_flatten_boundary;
 use crate::init::sea::build_sea_with_radius;
@@ -34,7 +33,8 @@ pub struct Config {
     /// Radius of the ROI inside the unit disk when the sea is built (Alg. 4 step 1 leaves it
     /// open); 0.85 keeps the sea about 3× the ROI's size.
     pub roi_radius: f64,
-    /// Iterations without improvement before stopping as stationary.
+    /// Stop as stationary when the best density error has improved by less than 2% over this
+    /// many iterations.
     pub patience: usize,
 }
 
@@ -107,16 +107,6 @@ pub fn run(
     let mut ext_pop = population.to_vec();
     ext_pop.extend(areas[sea.n_roi_faces..].iter().map(|a| mean_density * a));
 
-    // δt from (4.39) on the initial ROI density.
-    let dt = match config.dt {
-        Some(dt) => dt,
-        None => {
-            let rho_f: Vec<f64> = population.iter().zip(&areas).map(|(p, a)| p / a).collect();
-            let w = VertexFaces::new(sea.n_roi_vertices, faces);
-            let rho_v = w.apply(&areas[..sea.n_roi_faces], &rho_f);
-            default_time_step(&rho_v, roi_area)
-        }
-    };
     let time_init = t0.elapsed().as_secs_f64();
 
     let t1 = Instant::now();
@@ -126,8 +116,7 @@ pub fn run(
         n_roi_vertices: sea.n_roi_vertices,
         n_roi_faces: sea.n_roi_faces,
         shape: None,
-        dt,
-        adaptive_dt: config.dt.is_none(),
+        dt: config.dt,
         epsilon: config.epsilon,
         max_iter: config.max_iter,
         patience: config.patience,

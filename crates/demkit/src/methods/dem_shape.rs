@@ -5,12 +5,11 @@
 //! exactly on the prescribed curve.
 
 use super::dem::check_config_values;
-use super::disk_input::{default_time_step, disk_boundary};
+use super::disk_input::disk_boundary;
 use super::planar_diffusion::{self, Problem};
 use super::{MapResult, ProgressFn};
-use crate::fem::VertexFaces;
 use crate::geometry::signed_areas_2d;
-use crate::geometry::{face_areas, norm, sub};
+use crate::geometry::{norm, sub};
 use crate::init::shape::Shape;
 use crate::init::tutte::{InteriorWeights, fixed_boundary_map};
 use crate::{Error, Result, TriMesh};
@@ -27,7 +26,8 @@ pub struct Config {
     pub max_iter: usize,
     /// Time step; `None` uses (4.39).
     pub dt: Option<f64>,
-    /// Iterations without improvement before stopping as stationary.
+    /// Stop as stationary when the best density error has improved by less than 2% over this
+    /// many iterations.
     pub patience: usize,
 }
 
@@ -77,16 +77,6 @@ pub fn run(
             "the initial map onto the shape is degenerate at face {f}; try --shape disk or ellipse"
         )));
     }
-    let areas = face_areas(&initial, faces);
-    let area: f64 = areas.iter().sum();
-    let dt = match config.dt {
-        Some(dt) => dt,
-        None => {
-            let rho_f: Vec<f64> = population.iter().zip(&areas).map(|(p, a)| p / a).collect();
-            let rho_v = VertexFaces::new(mesh.n_vertices(), faces).apply(&areas, &rho_f);
-            default_time_step(&rho_v, area)
-        }
-    };
     let time_init = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let problem = Problem {
@@ -95,8 +85,7 @@ pub fn run(
         n_roi_vertices: mesh.n_vertices(),
         n_roi_faces: mesh.n_faces(),
         shape: Some((boundary, config.shape)),
-        dt,
-        adaptive_dt: config.dt.is_none(),
+        dt: config.dt,
         epsilon: config.epsilon,
         max_iter: config.max_iter,
         patience: config.patience,

@@ -4,12 +4,14 @@
 //! - **recoupling** (SDEM paper §3.1.4, (3.22)): every iteration re-derives the face density
 //!   `ρ_F = P / A` from the current map before the diffusion step, so the map follows the
 //!   density it actually has rather than a diffused field that equalizes long before the map;
-//! - **bijectivity**: a step that would flip a triangle is corrected with the Beltrami
-//!   shortened locally where a triangle would collapse, as the DEM paper's §7.3 suggests.
+//! - **bijectivity**: a step that would squeeze a triangle more than halfway to collapse is
+//!   shortened uniformly ([`safe_update`]), which never flips a triangle (§7.3 asks for
+//!   exactly such a safeguard).
 
+use super::disk_input::default_time_step;
 use super::{Progress, StopReason};
 use crate::Result;
-use crate::fem::{VertexFaces, cotangent_weights, face_gradient, lumped_mass};
+use crate::fem::{VertexFaces, cotangent_weights_into, face_gradient_into, lumped_mass};
 use crate::geometry::{face_areas, signed_area_2d};
 use crate::init::shape::Shape;
 use crate::linalg::{CachedCholesky, StiffnessPattern};
@@ -28,17 +30,31 @@ pub(crate) struct Problem<'a> {
     pub n_roi_faces: usize,
     /// Boundary vertices projected onto a prescribed shape after every step (Alg. 6 line 12).
     pub shape: Option<(Vec<u32>, Shape)>,
-    /// Time step δt (the smallest one when adaptive).
-    pub dt: f64,
-    /// Recompute δt by (4.39) from the current density every iteration (never below `dt`).
-    pub adaptive_dt: bool,
+    /// A fixed time step δt; `None` recomputes δt by (4.39) from the current density.
+    pub dt: Option<f64>,
     /// Stop when sd/mean of the recoupled ROI vertex density falls below this.
     pub epsilon: f64,
     /// Iteration limit.
     pub max_iter: usize,
-    /// Iterations without improvement of the density error before stopping as stationary.
+    /// Stop as stationary when the best density error has improved by less than
+    /// [`STATIONARY_GAIN`] over this many iterations.
     pub patience: usize,
 }
+
+/// The diffusion time, in mean ROI face areas, beyond which a step does not diffuse the density
+/// further (see [`run`]): about three rings of triangles.
+const SMOOTHING_FACES: f64 = 30.0;
+
+/// The same bound as a fraction of the ROI's area, for coarse meshes, where thirty triangles
+/// are a sizeable part of the domain: a diffusion length of at most 5% of its size.
+const SMOOTHING_AREA: f64 = 1.0 / 400.0;
+
+/// The relative improvement of the best density error over `patience` iterations below which
+/// the map counts as stationary.
+const STATIONARY_GAIN: f64 = 0.02;
+
+/// How much longer than the last successful move the next step may be.
+const STEP_GROWTH: f64 = 2.0;
 
 /// The result of the iteration.
 pub(crate) struct Outcome {
@@ -49,14 +65,38 @@ pub(crate) struct Outcome {
     pub stop_reason: StopReason,
 }
 
+/// The state of the map the iteration measures after every step.
 struct Measure {
-    /// sd/mean of the recoupled vertex density over the ROI (the stop quantity).
+    /// Current face areas (all faces).
+    areas: Vec<f64>,
+    /// Recoupled vertex density (4.27) of the current map (all vertices).
+    rho_v: Vec<f64>,
+    /// sd/mean of `rho_v` over the ROI (the stop quantity).
     sd_over_mean: f64,
-    /// Mean |log(A/P)| (normalized) over the ROI faces.
+    /// Mean |log((A/ΣA)/(P/ΣP))| over the ROI faces.
     error: f64,
 }
 
 /// Runs the iteration from the flip-free map `r` (z = 0).
+///
+/// Each iteration is one step of Alg. 5 lines 11–16 on the recoupled density:
+/// 1. `ρ_F = P / A` on the current map, interpolated at the vertices by (4.27) — every face
+///    counts equally, so a triangle squeezed too small keeps its say in its vertices' density
+///    (with the area weights of (4.29) it would lose it exactly when it matters);
+/// 2. the diffusion (4.34) `(A + T L) ρ̃ = A ρ` over `T = min(h, 30 Ā, Area / 400)` (h the step
+///    below, Ā the mean ROI face area): one backward-Euler step of a concentrated density is
+///    logarithmically singular (its Green's function is K₀), so diffusing longer than over a
+///    few rings of triangles only blurs the density without making the velocity smoother;
+/// 3. the velocity `v = −∇ρ̃ / ρ̃` by (4.37) and W^FV, smoothed once with the same factor,
+///    `(A + T L) v̄ = A v`, which removes the triangle-scale noise of the face gradients;
+/// 4. the move `r ← r + h v̄`, shortened where it would squeeze a triangle more than halfway
+///    to collapse ([`safe_update`]).
+///
+/// The step `h`: with a fixed `dt`, `h = dt`. Otherwise `h` starts at δt of (4.39) and adapts:
+/// after a move that lowered the density error, `h = min(δt(4.39), 2 × the move's length)`;
+/// after one that did not, the move is undone and `h` is halved. The iteration stops at
+/// sd/mean < ε (tolerance) or when the best error has improved by less than
+/// [`STATIONARY_GAIN`] over the last `patience` iterations (stationary).
 pub(crate) fn run(
     problem: &Problem,
     mut r: Vec<[f64; 3]>,
@@ -72,8 +112,11 @@ pub(crate) fn run(
     let pattern = StiffnessPattern::new(n, faces, None);
     let cholesky = CachedCholesky::new(&pattern)?;
     let mut values = vec![0.0; pattern.nnz()];
+    let mut weights = Vec::new();
+    let mut grad_f = Vec::new();
+    let total_population: f64 = problem.population[..nf].iter().sum();
 
-    let measure = |r: &[[f64; 3]]| -> (Measure, Vec<f64>, Vec<f64>) {
+    let measure = |r: &[[f64; 3]]| -> Measure {
         let areas = face_areas(r, faces);
         let rho_f: Vec<f64> = problem
             .population
@@ -81,34 +124,31 @@ pub(crate) fn run(
             .zip(&areas)
             .map(|(p, a)| p / a)
             .collect();
-        let rho_v = incidence.apply(&areas, &rho_f);
+        let rho_v = incidence.average(&rho_f);
         // sd of ρ/mean rather than sd(ρ)/mean: squares of tiny densities would underflow.
         let roi = &rho_v[..nv];
         let mean = roi.iter().sum::<f64>() / nv as f64;
         let sd_over_mean =
             (roi.iter().map(|x| (x / mean - 1.0).powi(2)).sum::<f64>() / nv as f64).sqrt();
-        let sp: f64 = problem.population[..nf].iter().sum();
-        let sa: f64 = areas[..nf].iter().sum();
+        let roi_area: f64 = areas[..nf].iter().sum();
         let error = problem.population[..nf]
             .iter()
             .zip(&areas[..nf])
-            .map(|(p, a)| ((a / sa) / (p / sp)).ln().abs())
+            .map(|(p, a)| ((a / roi_area) / (p / total_population)).ln().abs())
             .sum::<f64>()
             / nf as f64;
-        (
-            Measure {
-                sd_over_mean,
-                error,
-            },
+        Measure {
             areas,
             rho_v,
-        )
+            sd_over_mean,
+            error,
+        }
     };
 
-    let (mut m, mut areas, mut rho_v) = measure(&r);
+    let mut m = measure(&r);
     let mut history = Vec::new();
     let mut best = (m.error, r.clone());
-    let mut since_best = 0usize;
+    let mut best_history = vec![m.error];
     if m.sd_over_mean < problem.epsilon {
         return Ok(Outcome {
             positions: r,
@@ -119,62 +159,83 @@ pub(crate) fn run(
     }
     let mut stop_reason = StopReason::MaxIter;
     let mut iterations = 0;
+    // The next step's upper bound from the previous move (none before the first).
+    let mut next_step: Option<f64> = None;
     for it in 1..=problem.max_iter {
         iterations = it;
-        // Diffusion step (4.34): (A + δt L) ρ_n = A ρ_{n−1}.
-        // δt by (4.39) on the current (recoupled) density: the diffusion restarts every
-        // iteration, so its time scale follows the density's current spread.
-        let dt = if problem.adaptive_dt {
-            let roi_area: f64 = areas[..nf].iter().sum();
-            super::disk_input::default_time_step(&rho_v[..nv], roi_area).max(problem.dt)
-        } else {
-            problem.dt
+        let roi_area: f64 = m.areas[..nf].iter().sum();
+        let dt = match (problem.dt, next_step) {
+            (Some(dt), _) => dt,
+            (None, None) => default_time_step(&m.rho_v[..nv], roi_area),
+            (None, Some(h)) => h.min(default_time_step(&m.rho_v[..nv], roi_area)),
         };
-        let mut w = cotangent_weights(&r, faces);
-        for x in w.iter_mut() {
-            *x = x.map(|c| c * dt);
+        let smoothing_time = dt
+            .min(SMOOTHING_FACES * roi_area / nf as f64)
+            .min(SMOOTHING_AREA * roi_area);
+
+        // Diffusion (4.34): (A + T L) ρ̃ = A ρ.
+        cotangent_weights_into(&r, faces, &mut weights);
+        for w in weights.iter_mut() {
+            *w = w.map(|c| c * smoothing_time);
         }
-        let mass = lumped_mass(n, faces, &areas);
-        pattern.assemble(&w, &mass, &mut values);
+        let mass = lumped_mass(n, faces, &m.areas);
+        pattern.assemble(&weights, &mass, &mut values);
         let factor = cholesky.factor(&pattern, &values)?;
-        let mut rho: Vec<f64> = mass.iter().zip(&rho_v).map(|(a, p)| a * p).collect();
+        let mut rho: Vec<f64> = mass.iter().zip(&m.rho_v).map(|(a, p)| a * p).collect();
         factor.solve_in_place(&mut rho);
-        let floor = rho_v.iter().cloned().fold(f64::INFINITY, f64::min) * 1e-3;
+        let floor = m.rho_v.iter().cloned().fold(f64::INFINITY, f64::min) * 1e-3;
         for x in rho.iter_mut() {
             if !(*x > floor) {
                 *x = floor;
             }
         }
-        // Gradient (4.37), W^FV (4.31), velocity −∇ρ/ρ (3.4).
-        let grad_f = face_gradient(&r, faces, &rho);
-        let grad_v = incidence_all.apply_vec(&areas, &grad_f);
-        let step: Vec<[f64; 2]> = grad_v
-            .iter()
-            .zip(&rho)
-            .map(|(g, p)| [-dt * g[0] / p, -dt * g[1] / p])
-            .collect();
-        safe_update(problem, &mut r, &step);
 
-        let (m2, a2, rv2) = measure(&r);
-        (m, areas, rho_v) = (m2, a2, rv2);
+        // Velocity −∇ρ̃/ρ̃ by (4.37) and W^FV (3.4), smoothed with the same factor.
+        face_gradient_into(&r, faces, &rho, &mut grad_f);
+        let grad_v = incidence_all.apply_vec(&m.areas, &grad_f);
+        let mut velocity = vec![0.0; 2 * n];
+        for (i, (g, p)) in grad_v.iter().zip(&rho).enumerate() {
+            velocity[i] = -mass[i] * g[0] / p;
+            velocity[n + i] = -mass[i] * g[1] / p;
+        }
+        factor.solve_many_in_place(&mut velocity, 2);
+        let step: Vec<[f64; 2]> = (0..n)
+            .map(|i| [dt * velocity[i], dt * velocity[n + i]])
+            .collect();
+        let tau = safe_update(problem, &mut r, &step);
+
+        let previous_error = m.error;
+        m = measure(&r);
+        let improved = m.error < previous_error;
+        if problem.dt.is_none() {
+            if improved {
+                next_step = Some(STEP_GROWTH * tau * dt);
+            } else {
+                // Undo the move and retry shorter.
+                next_step = Some(0.5 * tau * dt);
+                r.clone_from(&best.1);
+                m = measure(&r);
+            }
+        }
         history.push(m.sd_over_mean);
         progress(Progress {
             iteration: it,
             max_iter: problem.max_iter,
             error: m.sd_over_mean,
         });
-        if m.error < best.0 * (1.0 - 1e-4) {
+        if m.error < best.0 {
             best = (m.error, r.clone());
-            since_best = 0;
-        } else {
-            since_best += 1;
         }
+        best_history.push(best.0);
         if m.sd_over_mean < problem.epsilon {
             stop_reason = StopReason::Tolerance;
             best.1 = r.clone();
             break;
         }
-        if since_best >= problem.patience {
+        let k = best_history.len();
+        if k > problem.patience
+            && best.0 > (1.0 - STATIONARY_GAIN) * best_history[k - 1 - problem.patience]
+        {
             stop_reason = StopReason::Stationary;
             break;
         }
@@ -241,7 +302,8 @@ pub(crate) fn collapse_time(p: [[f64; 3]; 3], s: [[f64; 2]; 3]) -> f64 {
 /// motion keeps every triangle positive, and the margin keeps triangles from being squeezed
 /// almost flat in one step. With a prescribed shape the boundary vertices are projected back
 /// onto it, halving τ while that flips a triangle; if nothing works the map stays put.
-fn safe_update(problem: &Problem, r: &mut Vec<[f64; 3]>, step: &[[f64; 2]]) {
+/// Returns the factor τ applied to the step (0 if the map stayed put).
+fn safe_update(problem: &Problem, r: &mut Vec<[f64; 3]>, step: &[[f64; 2]]) -> f64 {
     let faces = problem.faces;
     let t_min = faces
         .par_iter()
@@ -257,10 +319,11 @@ fn safe_update(problem: &Problem, r: &mut Vec<[f64; 3]>, step: &[[f64; 2]]) {
         project_shape(problem, &mut proposal);
         if !has_flip(&proposal, faces) {
             *r = proposal;
-            return;
+            return tau;
         }
         tau *= 0.5;
     }
+    0.0
 }
 
 #[cfg(test)]
@@ -306,8 +369,7 @@ mod tests {
             n_roi_vertices: pos.len(),
             n_roi_faces: faces.len(),
             shape: None,
-            dt: 1.0,
-            adaptive_dt: false,
+            dt: Some(1.0),
             epsilon: 1e-3,
             max_iter: 1,
             patience: 1,
