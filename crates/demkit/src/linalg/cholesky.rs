@@ -19,6 +19,9 @@ pub struct CachedCholesky {
     symbolic: SymbolicCholesky<usize>,
     n: usize,
     workspace: RefCell<MemBuffer>,
+    /// The factor's values, lent to the live [`CholeskyFactor`] and returned when it drops, so
+    /// refactorizations do not allocate.
+    factor_values: RefCell<Vec<f64>>,
 }
 
 impl std::fmt::Debug for CachedCholesky {
@@ -36,6 +39,13 @@ pub struct CholeskyFactor<'a> {
     symbolic: &'a SymbolicCholesky<usize>,
     values: Vec<f64>,
     n: usize,
+    home: &'a RefCell<Vec<f64>>,
+}
+
+impl Drop for CholeskyFactor<'_> {
+    fn drop(&mut self) {
+        self.home.replace(std::mem::take(&mut self.values));
+    }
 }
 
 fn new_workspace(symbolic: &SymbolicCholesky<usize>) -> MemBuffer {
@@ -64,6 +74,7 @@ impl CachedCholesky {
             symbolic,
             n,
             workspace,
+            factor_values: RefCell::new(Vec::new()),
         })
     }
 
@@ -78,7 +89,8 @@ impl CachedCholesky {
             pattern.row_idx(),
         );
         let mat = SparseColMatRef::new(sym, values);
-        let mut l = vec![0.0; self.symbolic.len_val()];
+        let mut l = self.factor_values.take();
+        l.resize(self.symbolic.len_val(), 0.0);
         let mut ws = self.workspace.borrow_mut();
         self.symbolic
             .factorize_numeric_llt(
@@ -95,6 +107,7 @@ impl CachedCholesky {
             symbolic: &self.symbolic,
             values: l,
             n: self.n,
+            home: &self.factor_values,
         })
     }
 }
