@@ -3,6 +3,7 @@
 //! implementation for surfaces and for planar maps.
 
 mod plane;
+pub mod sphere;
 mod vec3;
 
 pub use plane::{PlaneFrame, planar_frame};
