@@ -7,7 +7,7 @@ use crate::report::{InputSummary, Report};
 use demkit::TriMesh;
 use demkit::init::shape::Shape;
 use demkit::mesh::topology::topology;
-use demkit::methods::{dem, dem_shape};
+use demkit::methods::{dem, dem_shape, sdem, spherical_conformal};
 use demkit::metrics::{Domain, compute};
 use demkit::population::{PopulationSpec, face_populations};
 use std::path::Path;
@@ -64,6 +64,14 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             apply_common(&mut c.epsilon, &mut c.max_iter, &mut c.dt, a);
             dem_shape::run(&mesh, &population, &c, &mut progress)
         }
+        Method::Sdem => {
+            let mut c = sdem::Config::default();
+            let mut dt = Some(c.dt);
+            apply_common(&mut c.epsilon, &mut c.max_iter, &mut dt, a);
+            c.dt = dt.unwrap_or(c.dt);
+            sdem::run(&mesh, &population, &c, &mut progress)
+        }
+        Method::SphericalConformal => spherical_conformal::run(&mesh, &population),
         other => {
             bar.finish();
             return Err(not_implemented(other, a.method == Method::Auto));
@@ -71,6 +79,10 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     };
     bar.finish();
     let result = result?;
+    let domain = match method {
+        Method::Sdem | Method::Lsdem | Method::SphericalConformal => Domain::Sphere,
+        _ => Domain::Plane,
+    };
     let out_mesh = TriMesh::new(result.positions.clone(), mesh.faces.clone());
     demkit::io::write_mesh(&a.out, &out_mesh)?;
     let metrics = compute(
@@ -78,7 +90,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         &population,
         &result.initial,
         &result.positions,
-        Domain::Plane,
+        domain,
         None,
     );
     if let Some(path) = &a.report {
