@@ -9,8 +9,9 @@
 //!
 //! The sign of (3.14) is the one that moves vertices along the velocity −∇ρ/ρ, from dense to
 //! sparse regions (as in (2.4) and (3.3)). When the density stops improving before ε is met
-//! (the discrete map cannot equalize further) the iteration stops as stationary and returns
-//! the best map met.
+//! (over the last 10 iterations sd/mean fell by less than 5%: the discrete map cannot
+//! equalize further at a useful pace) the iteration stops as stationary and returns the best
+//! map met.
 
 use super::dem::check_config_values;
 use super::sphere_density::SphereDiffusion;
@@ -30,8 +31,12 @@ pub struct Config {
     pub max_iter: usize,
     /// Time step δt (paper: 0.1).
     pub dt: f64,
-    /// Iterations without improvement of the density before stopping as stationary.
-    pub patience: usize,
+    /// Stationary stop: the iteration stops when, over the last `window` iterations, the
+    /// stopping quantity fell by less than the fraction `min_progress` (at that pace ε is out
+    /// of reach within the iteration budget).
+    pub window: usize,
+    /// See `window`.
+    pub min_progress: f64,
 }
 
 impl Default for Config {
@@ -40,7 +45,8 @@ impl Default for Config {
             epsilon: 1e-3,
             max_iter: 200,
             dt: 0.1,
-            patience: 5,
+            window: 10,
+            min_progress: 0.05,
         }
     }
 }
@@ -68,7 +74,6 @@ pub fn run(
     let mut d = diffusion.measure(&x);
     let mut history = Vec::new();
     let mut best = (d.sd_over_mean, x.clone());
-    let mut since_best = 0usize;
     let mut stop_reason = StopReason::MaxIter;
     let mut iterations = 0;
     let mut corrected = 0usize;
@@ -82,24 +87,26 @@ pub fn run(
             let outcome = advance(&mut x, &step, faces, &corrector);
             corrected += outcome.corrected as usize;
             d = diffusion.measure(&x);
+            if std::env::var_os("DEMKIT_TRACE").is_some() {
+                eprintln!("it {it}: fraction {:.4} corrected {} sd {:.5} err {:.5} t {:.2}", outcome.fraction, outcome.corrected, d.sd_over_mean, d.error, t1.elapsed().as_secs_f64());
+            }
             history.push(d.sd_over_mean);
             progress(Progress {
                 iteration: it,
                 max_iter: config.max_iter,
                 error: d.sd_over_mean,
             });
-            if d.sd_over_mean < best.0 * (1.0 - 1e-3) {
+            if d.sd_over_mean < best.0 {
                 best = (d.sd_over_mean, x.clone());
-                since_best = 0;
-            } else {
-                since_best += 1;
             }
             if d.sd_over_mean < config.epsilon {
                 stop_reason = StopReason::Tolerance;
                 best.1 = x.clone();
                 break;
             }
-            if since_best >= config.patience || outcome.fraction == 0.0 {
+            let stalled = history.len() > config.window
+                && best.0 > (1.0 - config.min_progress) * history[history.len() - 1 - config.window];
+            if stalled || outcome.fraction == 0.0 {
                 stop_reason = StopReason::Stationary;
                 break;
             }

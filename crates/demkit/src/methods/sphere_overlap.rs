@@ -1,164 +1,169 @@
-//! Bijectivity on the sphere: the north–south overlap correction of the SDEM paper (§3.1.3)
-//! and a step that never returns a flipped map.
+//! Bijectivity on the sphere: the overlap correction of the SDEM paper (§3.1.3) and a step
+//! that never returns a flipped map.
 //!
-//! A pass of the correction, for a pole face `F`: rotate the initial map S₀ and the current map
-//! Sₙ so that `F`'s centroid is the north pole, project both stereographically (the pole face
-//! becomes the outer face, its neighbourhood the outermost region), compute the Beltrami
-//! coefficient μ of the planar map D₀ → Dₙ, truncate it where |μ| ≥ 1 (3.19), and rebuild the
-//! map with the linear Beltrami solver from D₀ with the outermost vertices fixed at their place
-//! in Dₙ (3.20). Two passes run with antipodal pole faces, each the face with the most regular
-//! 1-ring (3.15)–(3.18) in its hemisphere, so that each pass corrects the other's fixed cap.
+//! The correction works on a patch around the flipped faces (their corners and a few rings of
+//! neighbours): rotate the initial map S₀ and the current map Sₙ so that the patch sits at the
+//! south pole, project both stereographically from the north pole (the patch lands around the
+//! origin, where the projection distorts least, and everything else is the outer region),
+//! compute the Beltrami coefficient μ of the planar map D₀ → Dₙ, truncate it where |μ| ≥ 1
+//! (3.19, δ = 0.1), and rebuild the map with the linear Beltrami solver from D₀ with the outer
+//! region fixed at its place in Dₙ (3.20); then back onto the sphere. Since the outer region is
+//! the rest of the sphere, the correction cannot disturb the map away from the overlaps, and
+//! one pass replaces the paper's north and south passes (whose fixed polar caps exist only
+//! because the paper corrects the whole sphere at once). A patch that does not unfold is grown
+//! and tried again.
 
+use crate::fem::VertexFaces;
 use crate::geometry::sphere::{
     mat_t_vec, mat_vec, normalize, project_from_north, rotation_to_north, spherical_orientation,
     unproject_from_north,
 };
 use crate::geometry::{add, dot, scale};
-use crate::init::spherical_conformal::face_regularity;
 use crate::qc::{LinearBeltramiSolver, beltrami_coefficient, truncate};
 use rayon::prelude::*;
-use std::cell::OnceCell;
 
 /// The truncation parameter δ of (3.19).
 const DELTA: f64 = 0.1;
 
-/// One pass of the correction (module docs).
-struct Pass {
-    pole: usize,
-    fixed: Vec<bool>,
-    inner_faces: Vec<[u32; 3]>,
-    /// D₀: the initial map seen from the pole face, projected.
-    d0: Vec<[f64; 3]>,
-    lbs: OnceCell<Option<LinearBeltramiSolver>>,
-}
-
-/// The north–south overlap correction for one mesh and one initial map.
+/// The overlap correction for one mesh and one (flip-free) initial map.
 pub(crate) struct OverlapCorrector {
     faces: Vec<[u32; 3]>,
-    passes: [Pass; 2],
+    initial: Vec<[f64; 3]>,
+    incidence: VertexFaces,
 }
 
-fn centroid_direction(map: &[[f64; 3]], f: [u32; 3]) -> [f64; 3] {
-    normalize(add(add(map[f[0] as usize], map[f[1] as usize]), map[f[2] as usize]))
+fn count_flips(map: &[[f64; 3]], faces: &[[u32; 3]]) -> usize {
+    crate::init::spherical_conformal::count_spherical_flips(map, faces)
 }
 
-/// The 1-ring regularity R̄ (3.18) of every face of `map`.
-pub(crate) fn one_ring_regularity(map: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
-    let rf = face_regularity(map, faces);
-    // (3.16)–(3.17): R_V = H^FV R_F with H_ij = 1/3 for incident faces.
-    let mut rv = vec![0.0; map.len()];
-    for (f, r) in faces.iter().zip(&rf) {
-        for &v in f {
-            rv[v as usize] += r / 3.0;
-        }
-    }
+fn flipped_faces(map: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<usize> {
     faces
-        .iter()
-        .map(|f| f.iter().map(|&v| rv[v as usize]).sum::<f64>() / 3.0)
+        .par_iter()
+        .enumerate()
+        .filter(|(_, f)| {
+            !(spherical_orientation(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize])
+                > 0.0)
+        })
+        .map(|(i, _)| i)
         .collect()
 }
 
-impl Pass {
-    fn new(initial: &[[f64; 3]], faces: &[[u32; 3]], pole: usize) -> Self {
-        let n = initial.len();
-        let r0 = rotation_to_north(centroid_direction(initial, faces[pole]));
-        let d0: Vec<[f64; 3]> = initial
-            .par_iter()
-            .map(|&p| project_from_north(mat_vec(&r0, p)))
-            .collect();
-        // The outermost region: the pole face's corners and their neighbours.
-        let mut fixed = vec![false; n];
-        let corners = faces[pole];
-        for f in faces {
-            if f.iter().any(|v| corners.contains(v)) {
-                for &v in f {
-                    fixed[v as usize] = true;
-                }
-            }
-        }
-        let inner_faces = faces
-            .iter()
-            .enumerate()
-            .filter(|&(i, _)| i != pole)
-            .map(|(_, f)| *f)
-            .collect();
+impl OverlapCorrector {
+    pub(crate) fn new(initial: &[[f64; 3]], faces: &[[u32; 3]]) -> Self {
         Self {
-            pole,
-            fixed,
-            inner_faces,
-            d0,
-            lbs: OnceCell::new(),
+            faces: faces.to_vec(),
+            initial: initial.to_vec(),
+            incidence: VertexFaces::new(initial.len(), faces),
         }
     }
 
-    /// Applies the pass to `map` in place. Returns false if the solver failed (map unchanged).
-    fn apply(&self, faces: &[[u32; 3]], map: &mut [[f64; 3]]) -> bool {
-        let rn = rotation_to_north(centroid_direction(map, faces[self.pole]));
-        let dn: Vec<[f64; 3]> = map
-            .par_iter()
-            .map(|&p| project_from_north(mat_vec(&rn, p)))
-            .collect();
-        let mu = beltrami_coefficient(&self.d0, &dn, &self.inner_faces);
-        let needs = self.inner_faces.iter().zip(&mu).any(|(f, m)| {
-            !(m.norm() < 1.0) && !f.iter().all(|&v| self.fixed[v as usize])
-        });
-        if !needs {
-            return true;
+    /// Corrects the flipped faces of `map` (module docs); patches of 3, 6 and 12 rings.
+    /// A correction that does not reduce the number of flipped faces is undone.
+    pub(crate) fn correct(&self, map: &mut [[f64; 3]]) {
+        for rings in [3, 6, 12] {
+            let flipped = flipped_faces(map, &self.faces);
+            if flipped.is_empty() {
+                return;
+            }
+            let mut trial = map.to_vec();
+            if self.correct_patch(&mut trial, &flipped, rings)
+                && count_flips(&trial, &self.faces) < flipped.len()
+            {
+                map.copy_from_slice(&trial);
+            }
         }
-        let mu: Vec<_> = mu.into_iter().map(|m| truncate(m, DELTA)).collect();
-        let lbs = self.lbs.get_or_init(|| {
-            LinearBeltramiSolver::new(self.d0.len(), &self.inner_faces, &self.fixed).ok()
-        });
-        let Some(lbs) = lbs else { return false };
-        let Ok(out) = lbs.solve(&self.d0, &mu, &dn) else {
+    }
+
+    /// One LBS correction of the patch `rings` rings around the faces `flipped`.
+    fn correct_patch(&self, map: &mut [[f64; 3]], flipped: &[usize], rings: usize) -> bool {
+        let n = map.len();
+        let faces = &self.faces;
+        let mut free = vec![false; n];
+        let mut frontier: Vec<usize> = Vec::new();
+        for &f in flipped {
+            for &v in &faces[f] {
+                if !free[v as usize] {
+                    free[v as usize] = true;
+                    frontier.push(v as usize);
+                }
+            }
+        }
+        for _ in 0..rings {
+            let mut next = Vec::new();
+            for &v in &frontier {
+                for &f in self.incidence.faces_of(v) {
+                    for &u in &faces[f as usize] {
+                        if !free[u as usize] {
+                            free[u as usize] = true;
+                            next.push(u as usize);
+                        }
+                    }
+                }
+            }
+            frontier = next;
+        }
+        // The patch's faces (those touching a free vertex) and their corners, re-indexed.
+        let mut local = vec![u32::MAX; n];
+        let mut verts: Vec<usize> = Vec::new();
+        let mut patch: Vec<[u32; 3]> = Vec::new();
+        for f in faces {
+            if f.iter().any(|&v| free[v as usize]) {
+                patch.push(f.map(|v| {
+                    let v = v as usize;
+                    if local[v] == u32::MAX {
+                        local[v] = verts.len() as u32;
+                        verts.push(v);
+                    }
+                    local[v]
+                }));
+            }
+        }
+        let fixed: Vec<bool> = verts.iter().map(|&v| !free[v]).collect();
+        if !fixed.iter().any(|&x| x) {
+            return false;
+        }
+        let centre = |m: &[[f64; 3]]| {
+            let mut c = [0.0; 3];
+            for (&v, &fx) in verts.iter().zip(&fixed) {
+                if !fx {
+                    c = add(c, m[v]);
+                }
+            }
+            normalize(scale(c, -1.0))
+        };
+        // Rotations sending the patch's centre to the south pole.
+        let r0 = rotation_to_north(centre(&self.initial));
+        let rn = rotation_to_north(centre(map));
+        let d0: Vec<[f64; 3]> = verts
+            .iter()
+            .map(|&v| mat_vec(&r0, self.initial[v]))
+            .collect();
+        let dn: Vec<[f64; 3]> = verts.iter().map(|&v| mat_vec(&rn, map[v])).collect();
+        // The patch must stay well away from the projection's pole.
+        if d0.iter().chain(&dn).any(|p| p[2] > 0.5) {
+            return false;
+        }
+        let d0: Vec<[f64; 3]> = d0.into_iter().map(project_from_north).collect();
+        let dn: Vec<[f64; 3]> = dn.into_iter().map(project_from_north).collect();
+        let mu: Vec<_> = beltrami_coefficient(&d0, &dn, &patch)
+            .into_iter()
+            .map(|m| truncate(m, DELTA))
+            .collect();
+        let Ok(lbs) = LinearBeltramiSolver::new(verts.len(), &patch, &fixed) else {
+            return false;
+        };
+        let Ok(out) = lbs.solve(&d0, &mu, &dn) else {
             return false;
         };
         if out.iter().any(|p| !p[0].is_finite() || !p[1].is_finite()) {
             return false;
         }
-        map.par_iter_mut()
-            .zip(out.par_iter())
-            .for_each(|(m, &w)| *m = mat_t_vec(&rn, unproject_from_north(w)));
-        true
-    }
-}
-
-impl OverlapCorrector {
-    /// Chooses the two pole faces on the initial (flip-free) map.
-    pub(crate) fn new(initial: &[[f64; 3]], faces: &[[u32; 3]]) -> Self {
-        let reg = one_ring_regularity(initial, faces);
-        let best = |keep: &dyn Fn(usize) -> bool| {
-            (0..faces.len())
-                .filter(|&f| keep(f))
-                .min_by(|&a, &b| reg[a].total_cmp(&reg[b]))
-        };
-        let north = best(&|_| true).unwrap_or(0);
-        let cn = centroid_direction(initial, faces[north]);
-        let south = best(&|f| dot(centroid_direction(initial, faces[f]), cn) < -0.5)
-            .unwrap_or_else(|| {
-                (0..faces.len())
-                    .min_by(|&a, &b| {
-                        let d = |f: usize| dot(centroid_direction(initial, faces[f]), cn);
-                        d(a).total_cmp(&d(b))
-                    })
-                    .unwrap_or(0)
-            });
-        Self {
-            faces: faces.to_vec(),
-            passes: [
-                Pass::new(initial, faces, north),
-                Pass::new(initial, faces, south),
-            ],
-        }
-    }
-
-    /// Runs the north pass then the south pass on `map`.
-    pub(crate) fn correct(&self, map: &mut [[f64; 3]]) {
-        for p in &self.passes {
-            if !p.apply(&self.faces, map) {
-                return;
+        for (k, &v) in verts.iter().enumerate() {
+            if !fixed[k] {
+                map[v] = mat_t_vec(&rn, unproject_from_north(out[k]));
             }
         }
+        true
     }
 }
 
@@ -203,7 +208,8 @@ fn collapse_time(p: [[f64; 3]; 3], s: [[f64; 3]; 3]) -> f64 {
 /// How a step was taken.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct StepOutcome {
-    /// The fraction of the step taken (1 = full step).
+    /// The fraction of the step taken (1 = full step; with local damping, the mean fraction
+    /// over the vertices).
     pub fraction: f64,
     /// True when the overlap correction was used.
     pub corrected: bool,
@@ -211,24 +217,28 @@ pub(crate) struct StepOutcome {
 
 /// Moves the flip-free spherical map `map` by the tangent `step` (then back onto the sphere)
 /// without ever leaving a flipped face: the full step; if faces flip, the overlap correction;
-/// if faces still flip, the step halved and tried again (§3.1.3). After 6 halvings the step is
-/// scaled to half the earliest collapse time of any face, which cannot flip; if even that
-/// fails the map stays put (fraction 0).
+/// if faces still flip, the step halved and tried again (§3.1.3), down to 1/64. If that fails,
+/// the step is scaled uniformly to half the earliest collapse time of any face (a uniformly
+/// scaled step below that time cannot flip a face). When that time is tiny (a face being
+/// crushed would stall the whole map) the step is damped locally instead: the vertices of every
+/// face that would collapse have their step shortened, so the rest of the map moves on. If
+/// nothing works the map stays put (fraction 0).
 pub(crate) fn advance(
     map: &mut Vec<[f64; 3]>,
     step: &[[f64; 3]],
     faces: &[[u32; 3]],
     corrector: &OverlapCorrector,
 ) -> StepOutcome {
-    let propose = |tau: f64| -> Vec<[f64; 3]> {
+    let propose = |scale_of: &(dyn Fn(usize) -> f64 + Sync)| -> Vec<[f64; 3]> {
         map.par_iter()
             .zip(step.par_iter())
-            .map(|(&p, &s)| normalize(add(p, scale(s, tau))))
+            .enumerate()
+            .map(|(i, (&p, &s))| normalize(add(p, scale(s, scale_of(i)))))
             .collect()
     };
     let mut tau = 1.0;
-    for _ in 0..=6 {
-        let mut prop = propose(tau);
+    for _ in 0..7 {
+        let mut prop = propose(&|_| tau);
         if !has_spherical_flip(&prop, faces) {
             *map = prop;
             return StepOutcome {
@@ -255,9 +265,9 @@ pub(crate) fn advance(
         .par_iter()
         .map(|f| collapse_time(f.map(|v| map[v as usize]), f.map(|v| step[v as usize])))
         .reduce(|| f64::INFINITY, f64::min);
-    let mut tau = (0.5 * t_min).min(1.0);
-    for _ in 0..8 {
-        let prop = propose(tau);
+    let tau = (0.5 * t_min).min(1.0);
+    if tau >= 1.0 / 256.0 {
+        let prop = propose(&|_| tau);
         if !has_spherical_flip(&prop, faces) {
             *map = prop;
             return StepOutcome {
@@ -265,12 +275,74 @@ pub(crate) fn advance(
                 corrected: false,
             };
         }
-        tau *= 0.5;
+    }
+    let s = local_damping(map, &step_half(step), faces, &corrector.incidence);
+    let prop = propose(&|i| 0.5 * s[i]);
+    if !has_spherical_flip(&prop, faces) {
+        *map = prop;
+        return StepOutcome {
+            fraction: 0.5 * s.iter().sum::<f64>() / s.len().max(1) as f64,
+            corrected: false,
+        };
     }
     StepOutcome {
         fraction: 0.0,
         corrected: false,
     }
+}
+
+fn step_half(step: &[[f64; 3]]) -> Vec<[f64; 3]> {
+    step.iter().map(|s| scale(*s, 0.5)).collect()
+}
+
+/// Per-vertex step factors in [0, 1] such that no face collapses before twice the damped step
+/// (see [`advance`]). After the first round only the faces around damped vertices are
+/// re-examined.
+fn local_damping(
+    map: &[[f64; 3]],
+    step: &[[f64; 3]],
+    faces: &[[u32; 3]],
+    incidence: &VertexFaces,
+) -> Vec<f64> {
+    let mut s = vec![1.0f64; map.len()];
+    let mut candidates: Vec<usize> = (0..faces.len()).collect();
+    let mut mark = vec![false; faces.len()];
+    for round in 0..40 {
+        let hits: Vec<(usize, f64)> = candidates
+            .par_iter()
+            .filter_map(|&i| {
+                let f = &faces[i];
+                let t = collapse_time(
+                    f.map(|v| map[v as usize]),
+                    f.map(|v| scale(step[v as usize], s[v as usize])),
+                );
+                (t < 2.0).then_some((i, t))
+            })
+            .collect();
+        if hits.is_empty() {
+            break;
+        }
+        let mut next = Vec::new();
+        for (i, t) in hits {
+            // The last rounds stop the corners outright: a face whose corners all stay put
+            // cannot collapse, so the loop ends.
+            let k = if round >= 30 { 0.0 } else { 0.5 * t.min(1.0) };
+            for &v in &faces[i] {
+                s[v as usize] *= k;
+                for &g in incidence.faces_of(v as usize) {
+                    if !mark[g as usize] {
+                        mark[g as usize] = true;
+                        next.push(g as usize);
+                    }
+                }
+            }
+        }
+        for &g in &next {
+            mark[g] = false;
+        }
+        candidates = next;
+    }
+    s
 }
 
 /// Projects `v` onto the tangent plane of the unit sphere at `p` (3.13).
