@@ -57,6 +57,25 @@ impl OverlapCorrector {
         }
     }
 
+    /// Per-vertex factors shortening every step to at most half the vertex's shortest edge.
+    pub(crate) fn clamp_factors(&self, map: &[[f64; 3]], step: &[[f64; 3]]) -> Vec<f64> {
+        (0..map.len())
+            .into_par_iter()
+            .map(|v| {
+                let mut h = f64::INFINITY;
+                for &f in self.incidence.faces_of(v) {
+                    for &u in &self.faces[f as usize] {
+                        if u as usize != v {
+                            h = h.min(crate::geometry::norm(crate::geometry::sub(map[u as usize], map[v])));
+                        }
+                    }
+                }
+                let len = crate::geometry::norm(step[v]);
+                if len > 0.5 * h { 0.5 * h / len } else { 1.0 }
+            })
+            .collect()
+    }
+
     /// Corrects the flipped faces of `map` (module docs); patches of 3, 6 and 12 rings.
     /// A correction that does not reduce the number of flipped faces is undone.
     pub(crate) fn correct(&self, map: &mut [[f64; 3]]) {
@@ -102,19 +121,58 @@ impl OverlapCorrector {
             }
             frontier = next;
         }
+        // Separate patches are corrected one at a time, each around its own centre.
+        let mut label = vec![usize::MAX; n];
+        let mut components: Vec<Vec<usize>> = Vec::new();
+        for start in 0..n {
+            if !free[start] || label[start] != usize::MAX {
+                continue;
+            }
+            let id = components.len();
+            let mut comp = vec![start];
+            label[start] = id;
+            let mut k = 0;
+            while k < comp.len() {
+                let v = comp[k];
+                k += 1;
+                for &f in self.incidence.faces_of(v) {
+                    for &u in &faces[f as usize] {
+                        let u = u as usize;
+                        if free[u] && label[u] == usize::MAX {
+                            label[u] = id;
+                            comp.push(u);
+                        }
+                    }
+                }
+            }
+            components.push(comp);
+        }
+        let mut changed = false;
+        for comp in &components {
+            changed |= self.correct_component(map, comp, &free);
+        }
+        changed
+    }
+
+    /// LBS correction of one connected patch: `comp` are its free vertices.
+    fn correct_component(&self, map: &mut [[f64; 3]], comp: &[usize], free: &[bool]) -> bool {
+        let faces = &self.faces;
         // The patch's faces (those touching a free vertex) and their corners, re-indexed.
-        let mut local = vec![u32::MAX; n];
+        let mut local: std::collections::HashMap<usize, u32> = std::collections::HashMap::new();
         let mut verts: Vec<usize> = Vec::new();
         let mut patch: Vec<[u32; 3]> = Vec::new();
-        for f in faces {
-            if f.iter().any(|&v| free[v as usize]) {
-                patch.push(f.map(|v| {
-                    let v = v as usize;
-                    if local[v] == u32::MAX {
-                        local[v] = verts.len() as u32;
-                        verts.push(v);
-                    }
-                    local[v]
+        let mut seen_face = std::collections::HashSet::new();
+        for &v in comp {
+            for &f in self.incidence.faces_of(v) {
+                if !seen_face.insert(f) {
+                    continue;
+                }
+                patch.push(faces[f as usize].map(|u| {
+                    let u = u as usize;
+                    *local.entry(u).or_insert_with(|| {
+                        verts.push(u);
+                        (verts.len() - 1) as u32
+                    })
                 }));
             }
         }
@@ -218,11 +276,11 @@ pub(crate) struct StepOutcome {
 /// Moves the flip-free spherical map `map` by the tangent `step` (then back onto the sphere)
 /// without ever leaving a flipped face: the full step; if faces flip, the overlap correction;
 /// if faces still flip, the step halved and tried again (§3.1.3), down to 1/64. If that fails,
-/// the step is scaled uniformly to half the earliest collapse time of any face (a uniformly
-/// scaled step below that time cannot flip a face). When that time is tiny (a face being
-/// crushed would stall the whole map) the step is damped locally instead: the vertices of every
-/// face that would collapse have their step shortened, so the rest of the map moves on. If
-/// nothing works the map stays put (fraction 0).
+/// every vertex's step is limited to half its shortest edge (then corrected likewise); if that
+/// fails, the limited step is damped locally: the vertices of every face that would collapse
+/// have their step shortened (a face whose corners all stop cannot flip), so that a face being
+/// crushed does not stop the rest of the map. Last resort: the step scaled uniformly to half
+/// the earliest collapse time of any face. If nothing works the map stays put (fraction 0).
 pub(crate) fn advance(
     map: &mut Vec<[f64; 3]>,
     step: &[[f64; 3]],
@@ -261,27 +319,49 @@ pub(crate) fn advance(
         }
         tau *= 0.5;
     }
+    // A step longer than half the vertex's shortest edge is shortened to that length.
+    let limit = corrector.clamp_factors(map, step);
+    let mut prop = propose(&|i| limit[i]);
+    let mean_limit = limit.iter().sum::<f64>() / limit.len().max(1) as f64;
+    if has_spherical_flip(&prop, faces) {
+        corrector.correct(&mut prop);
+        for p in prop.iter_mut() {
+            *p = normalize(*p);
+        }
+    }
+    if prop.iter().all(|p| p.iter().all(|x| x.is_finite())) && !has_spherical_flip(&prop, faces) {
+        *map = prop;
+        return StepOutcome {
+            fraction: mean_limit,
+            corrected: true,
+        };
+    }
+    // Local damping of the limited step: the rest of the map moves on.
+    let limited: Vec<[f64; 3]> = step
+        .iter()
+        .zip(&limit)
+        .map(|(s, &l)| scale(*s, l))
+        .collect();
+    let damp = local_damping(map, &limited, faces, &corrector.incidence);
+    let prop = propose(&|i| limit[i] * damp[i]);
+    if !has_spherical_flip(&prop, faces) {
+        *map = prop;
+        return StepOutcome {
+            fraction: limit.iter().zip(&damp).map(|(a, b)| a * b).sum::<f64>()
+                / limit.len().max(1) as f64,
+            corrected: false,
+        };
+    }
     let t_min = faces
         .par_iter()
         .map(|f| collapse_time(f.map(|v| map[v as usize]), f.map(|v| step[v as usize])))
         .reduce(|| f64::INFINITY, f64::min);
     let tau = (0.5 * t_min).min(1.0);
-    if tau >= 1.0 / 256.0 {
-        let prop = propose(&|_| tau);
-        if !has_spherical_flip(&prop, faces) {
-            *map = prop;
-            return StepOutcome {
-                fraction: tau,
-                corrected: false,
-            };
-        }
-    }
-    let s = local_damping(map, &step_half(step), faces, &corrector.incidence);
-    let prop = propose(&|i| 0.5 * s[i]);
-    if !has_spherical_flip(&prop, faces) {
+    let prop = propose(&|_| tau);
+    if tau > 0.0 && !has_spherical_flip(&prop, faces) {
         *map = prop;
         return StepOutcome {
-            fraction: 0.5 * s.iter().sum::<f64>() / s.len().max(1) as f64,
+            fraction: tau,
             corrected: false,
         };
     }
@@ -289,10 +369,6 @@ pub(crate) fn advance(
         fraction: 0.0,
         corrected: false,
     }
-}
-
-fn step_half(step: &[[f64; 3]]) -> Vec<[f64; 3]> {
-    step.iter().map(|s| scale(*s, 0.5)).collect()
 }
 
 /// Per-vertex step factors in [0, 1] such that no face collapses before twice the damped step
@@ -307,7 +383,7 @@ fn local_damping(
     let mut s = vec![1.0f64; map.len()];
     let mut candidates: Vec<usize> = (0..faces.len()).collect();
     let mut mark = vec![false; faces.len()];
-    for round in 0..40 {
+    for round in 0..500 {
         let hits: Vec<(usize, f64)> = candidates
             .par_iter()
             .filter_map(|&i| {
