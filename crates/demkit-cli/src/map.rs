@@ -7,7 +7,7 @@ use crate::report::{InputSummary, Report};
 use demkit::TriMesh;
 use demkit::init::shape::Shape;
 use demkit::mesh::topology::topology;
-use demkit::methods::{dem, dem_shape, sdem, spherical_conformal};
+use demkit::methods::{dem, dem_shape, lsdem, sdem, spherical_conformal};
 use demkit::metrics::{Domain, compute};
 use demkit::population::{PopulationSpec, face_populations};
 use std::path::Path;
@@ -44,6 +44,19 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     warn_unused(a, method);
     let population = face_populations(&PopulationSpec::parse(&a.population), &mesh)?;
 
+    let landmarks: Option<Vec<(usize, [f64; 3])>> = match &a.landmarks {
+        Some(path) if matches!(method, Method::Lsdem | Method::Sdem | Method::SphericalConformal) => {
+            let l = demkit::io::landmarks::read_landmarks(path, mesh.n_vertices())?;
+            Some(l.into_iter().map(|l| (l.vertex, l.target)).collect())
+        }
+        _ => None,
+    };
+    if method == Method::Lsdem && landmarks.is_none() {
+        return Err(Failure::input(
+            "--method lsdem needs --landmarks FILE (vertex_index x y z per line)",
+        ));
+    }
+
     let bar = Bar::new(a.quiet, method.name());
     let mut progress = |p| bar.update(p);
     let result = match method {
@@ -72,6 +85,17 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             sdem::run(&mesh, &population, &c, &mut progress)
         }
         Method::SphericalConformal => spherical_conformal::run(&mesh, &population),
+        Method::Lsdem => {
+            let mut c = lsdem::Config::default();
+            let mut dt = Some(c.dt);
+            apply_common(&mut c.epsilon, &mut c.max_iter, &mut dt, a);
+            c.dt = dt.unwrap_or(c.dt);
+            c.alpha = a.alpha.unwrap_or(c.alpha);
+            c.beta = a.beta.unwrap_or(c.beta);
+            c.gamma = a.gamma.unwrap_or(c.gamma);
+            let l = landmarks.as_deref().unwrap_or(&[]);
+            lsdem::run(&mesh, &population, l, &c, &mut progress)
+        }
         other => {
             bar.finish();
             return Err(not_implemented(other, a.method == Method::Auto));
@@ -91,7 +115,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         &result.initial,
         &result.positions,
         domain,
-        None,
+        landmarks.as_deref(),
     );
     if let Some(path) = &a.report {
         let input = InputSummary {
@@ -195,18 +219,26 @@ fn warn_unused(a: &MapArgs, m: Method) {
         return;
     }
     let unused: Vec<&str> = [
-        (a.landmarks.is_some(), "--landmarks"),
+        (
+            a.landmarks.is_some() && !matches!(m, Method::Lsdem | Method::Sdem | Method::SphericalConformal),
+            "--landmarks",
+        ),
         (a.torus.is_some(), "--torus"),
-        (a.alpha.is_some(), "--alpha"),
-        (a.beta.is_some(), "--beta"),
-        (a.gamma.is_some(), "--gamma"),
+        (a.alpha.is_some() && m != Method::Lsdem, "--alpha"),
+        (a.beta.is_some() && m != Method::Lsdem, "--beta"),
+        (a.gamma.is_some() && m != Method::Lsdem, "--gamma"),
         (a.shape.is_some() && m != Method::DemShape, "--shape"),
     ]
     .iter()
     .filter(|(set, _)| *set)
     .map(|(_, n)| *n)
     .collect();
-    if !unused.is_empty() && matches!(m, Method::Dem | Method::DemShape) {
+    if !unused.is_empty()
+        && matches!(
+            m,
+            Method::Dem | Method::DemShape | Method::Sdem | Method::Lsdem | Method::SphericalConformal
+        )
+    {
         eprintln!(
             "warning: {} not used by --method {}",
             unused.join(", "),

@@ -3,6 +3,7 @@
 //! implementation for surfaces and for planar maps.
 
 mod plane;
+pub mod rotation;
 pub mod sphere;
 mod vec3;
 

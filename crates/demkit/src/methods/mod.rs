@@ -4,6 +4,7 @@
 pub mod dem;
 pub mod dem_shape;
 mod disk_input;
+pub mod lsdem;
 mod planar_diffusion;
 pub mod sdem;
 mod sphere_density;

@@ -77,7 +77,26 @@ impl<'a> SphereDiffusion<'a> {
 
     /// The tangential velocity (3.12)–(3.13) after one diffusion step of length `dt` (3.9)
     /// from the density `d` of `map`: `ṽ = −(W^FV ∇ρ) / ρ`, minus its normal component.
+    /// `dt = 0` takes the velocity of ρ_V itself.
     pub(crate) fn velocity(&self, map: &[[f64; 3]], d: &Density, dt: f64) -> Result<Vec<[f64; 3]>> {
+        let rho = if dt > 0.0 {
+            self.diffuse(map, d, dt)?
+        } else {
+            d.rho_v.clone()
+        };
+        let grad_f = face_gradient(map, self.faces, &rho);
+        let grad_v = self.incidence.apply_vec(&d.areas, &grad_f);
+        Ok(grad_v
+            .par_iter()
+            .zip(rho.par_iter())
+            .zip(map.par_iter())
+            .map(|((g, r), &p)| tangential([-g[0] / r, -g[1] / r, -g[2] / r], p))
+            .collect())
+    }
+
+    /// One backward-Euler diffusion step (3.9): `(A + δt L) ρ = A ρ_V`, floored at a thousandth
+    /// of the smallest initial value.
+    fn diffuse(&self, map: &[[f64; 3]], d: &Density, dt: f64) -> Result<Vec<f64>> {
         let n = map.len();
         let mut w = cotangent_weights(map, self.faces);
         w.par_iter_mut().for_each(|x| *x = x.map(|c| c * dt));
@@ -93,13 +112,6 @@ impl<'a> SphereDiffusion<'a> {
                 *x = floor;
             }
         }
-        let grad_f = face_gradient(map, self.faces, &rho);
-        let grad_v = self.incidence.apply_vec(&d.areas, &grad_f);
-        Ok(grad_v
-            .par_iter()
-            .zip(rho.par_iter())
-            .zip(map.par_iter())
-            .map(|((g, r), &p)| tangential([-g[0] / r, -g[1] / r, -g[2] / r], p))
-            .collect())
+        Ok(rho)
     }
 }
