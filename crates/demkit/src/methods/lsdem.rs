@@ -150,6 +150,7 @@ pub fn run(
     let mut history = Vec::new();
     let mut stop_reason = StopReason::MaxIter;
     let mut iterations = 0;
+    let mut start = 1.0;
     for it in 1..=config.max_iter {
         iterations = it;
         let prev = x.clone();
@@ -194,7 +195,8 @@ pub fn run(
             .collect();
         // (3.33), overlap correction, recoupling (the density is re-derived from the map at the
         // start of every iteration).
-        let outcome = advance(&mut x, &step, faces, &corrector);
+        let outcome = advance(&mut x, &step, faces, &corrector, start);
+        start = (2.0 * outcome.fraction).min(1.0);
         if std::env::var_os("DEMKIT_TRACE").is_some() {
             let le: f64 = landmarks.iter().zip(&targets).map(|(l, q)| { let d = sub(x[l.0], *q); d[0]*d[0]+d[1]*d[1]+d[2]*d[2] }).sum::<f64>().sqrt();
             let maxstep = step.iter().map(|s| norm(*s)).fold(0.0, f64::max);

@@ -77,6 +77,7 @@ pub fn run(
     let mut stop_reason = StopReason::MaxIter;
     let mut iterations = 0;
     let mut corrected = 0usize;
+    let mut start = 1.0;
     if d.sd_over_mean < config.epsilon {
         stop_reason = StopReason::Tolerance;
     } else {
@@ -84,7 +85,8 @@ pub fn run(
             iterations = it;
             let v = diffusion.velocity(&x, &d, config.dt)?;
             let step: Vec<[f64; 3]> = v.iter().map(|s| s.map(|c| c * config.dt)).collect();
-            let outcome = advance(&mut x, &step, faces, &corrector);
+            let outcome = advance(&mut x, &step, faces, &corrector, start);
+            start = (2.0 * outcome.fraction).min(1.0);
             corrected += outcome.corrected as usize;
             d = diffusion.measure(&x);
             if std::env::var_os("DEMKIT_TRACE").is_some() {
