@@ -197,11 +197,6 @@ pub fn run(
         // start of every iteration).
         let outcome = advance(&mut x, &step, faces, &corrector, start);
         start = (2.0 * outcome.fraction).min(1.0);
-        if std::env::var_os("DEMKIT_TRACE").is_some() {
-            let le: f64 = landmarks.iter().zip(&targets).map(|(l, q)| { let d = sub(x[l.0], *q); d[0]*d[0]+d[1]*d[1]+d[2]*d[2] }).sum::<f64>().sqrt();
-            let maxstep = step.iter().map(|s| norm(*s)).fold(0.0, f64::max);
-            eprintln!("it {it}: fraction {:.4} corrected {} LE {le:.4} sd {:.4} maxstep {maxstep:.2e}", outcome.fraction, outcome.corrected, d.sd_over_mean);
-        }
         let change = x
             .par_iter()
             .zip(prev.par_iter())
@@ -245,4 +240,61 @@ pub fn run(
         time_map: t1.elapsed().as_secs_f64(),
         notes,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generate::icosphere;
+    use crate::geometry::face_areas;
+    use crate::metrics::{Domain, compute};
+
+    #[test]
+    fn landmark_checks() {
+        assert!(check_landmarks(&[(3, [0.0, 0.0, 1.0])], 10).is_ok());
+        let e = check_landmarks(&[(3, [0.0, 0.0, 1.001])], 10).unwrap_err();
+        assert!(e.to_string().contains("unit sphere"), "{e}");
+        let e = check_landmarks(&[(10, [0.0, 0.0, 1.0])], 10).unwrap_err();
+        assert!(e.to_string().contains("out of range"), "{e}");
+        assert!(check_landmarks(&[], 10).is_err());
+    }
+
+    #[test]
+    fn rotated_landmarks_are_matched() {
+        // Targets: four vertices of the sphere after a rotation about a tilted axis. The optimal
+        // rotation aligns them, the rest of the map stays nearly conformal and equal-area.
+        let mesh = icosphere(3).unwrap();
+        let pop = face_areas(&mesh.positions, &mesh.faces);
+        let (s, c) = 0.7f64.sin_cos();
+        let rot = |p: [f64; 3]| [c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]];
+        let landmarks: Vec<(usize, [f64; 3])> = [0usize, 5, 50, 300]
+            .iter()
+            .map(|&v| (v, rot(mesh.positions[v])))
+            .collect();
+        let r = run(&mesh, &pop, &landmarks, &Config::default(), &mut |_| {}).unwrap();
+        let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Sphere, Some(&landmarks));
+        assert_eq!(m.flipped_triangles, 0);
+        assert!(m.landmark_error.unwrap() < 0.02, "{m:?}");
+        assert!(m.density_var_final < 1e-3, "{m:?}");
+        assert!(m.mean_abs_mu < 0.1, "{m:?}");
+    }
+
+    #[test]
+    fn displaced_landmark_is_pulled_to_its_target() {
+        let mesh = icosphere(3).unwrap();
+        let pop = face_areas(&mesh.positions, &mesh.faces);
+        let p0 = mesh.positions[0];
+        let p1 = mesh.positions[100];
+        // Landmark 0 stays, landmark 100 moves a little towards landmark 0.
+        let moved = normalize([
+            0.9 * p1[0] + 0.1 * p0[0],
+            0.9 * p1[1] + 0.1 * p0[1],
+            0.9 * p1[2] + 0.1 * p0[2],
+        ]);
+        let landmarks = vec![(0, p0), (100, moved), (400, mesh.positions[400])];
+        let r = run(&mesh, &pop, &landmarks, &Config::default(), &mut |_| {}).unwrap();
+        let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Sphere, Some(&landmarks));
+        assert_eq!(m.flipped_triangles, 0);
+        assert!(m.landmark_error.unwrap() < 0.02, "{m:?}");
+    }
 }

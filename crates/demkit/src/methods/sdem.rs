@@ -19,7 +19,7 @@ use super::sphere_input::{check_sphere_input, initial_sphere_map};
 use super::sphere_overlap::{OverlapCorrector, advance};
 use super::{MapResult, Progress, ProgressFn, StopReason};
 use crate::geometry::sphere::normalize;
-use crate::{Result, TriMesh};
+use crate::{Error, Result, TriMesh};
 use std::time::Instant;
 
 /// SDEM parameters; `Default` gives the paper's defaults.
@@ -65,7 +65,32 @@ pub fn run(
     let mut notes = Vec::new();
     let initial = initial_sphere_map(mesh, population, &mut notes)?;
     let time_init = t0.elapsed().as_secs_f64();
+    let mut result = run_from(mesh, population, initial, config, progress)?;
+    result.time_init = time_init;
+    notes.append(&mut result.notes);
+    result.notes = notes;
+    Ok(result)
+}
 
+/// Algorithm 3.1 from a given flip-free initial map `initial` (unit vectors, faces
+/// counter-clockwise seen from outside) instead of the spherical conformal map.
+pub fn run_from(
+    mesh: &TriMesh,
+    population: &[f64],
+    initial: Vec<[f64; 3]>,
+    config: &Config,
+    progress: ProgressFn,
+) -> Result<MapResult> {
+    check_config_values(config.epsilon, Some(config.dt), config.max_iter)?;
+    check_sphere_input(mesh, population, "sdem")?;
+    if initial.len() != mesh.n_vertices()
+        || crate::init::spherical_conformal::count_spherical_flips(&initial, &mesh.faces) > 0
+    {
+        return Err(Error::Argument(
+            "the initial spherical map must have one point per vertex and no flipped face".into(),
+        ));
+    }
+    let mut notes = Vec::new();
     let t1 = Instant::now();
     let faces = &mesh.faces;
     let diffusion = SphereDiffusion::new(initial.len(), faces, population)?;
@@ -89,9 +114,6 @@ pub fn run(
             start = (2.0 * outcome.fraction).min(1.0);
             corrected += outcome.corrected as usize;
             d = diffusion.measure(&x);
-            if std::env::var_os("DEMKIT_TRACE").is_some() {
-                eprintln!("it {it}: fraction {:.4} corrected {} sd {:.5} err {:.5} t {:.2}", outcome.fraction, outcome.corrected, d.sd_over_mean, d.error, t1.elapsed().as_secs_f64());
-            }
             history.push(d.sd_over_mean);
             progress(Progress {
                 iteration: it,
@@ -128,8 +150,69 @@ pub fn run(
         stop_reason,
         iterations,
         history,
-        time_init,
+        time_init: 0.0,
         time_map: t1.elapsed().as_secs_f64(),
         notes,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generate::icosphere;
+    use crate::geometry::face_areas;
+    use crate::metrics::{Domain, compute};
+
+    #[test]
+    fn equal_density_stops_at_once() {
+        // The icosphere onto itself with its own face areas as population: ρ is exactly 1.
+        let mesh = icosphere(3).unwrap();
+        let pop = face_areas(&mesh.positions, &mesh.faces);
+        let r = run_from(&mesh, &pop, mesh.positions.clone(), &Config::default(), &mut |_| {})
+            .unwrap();
+        assert_eq!(r.iterations, 0);
+        assert_eq!(r.stop_reason, StopReason::Tolerance);
+        for (a, b) in r.positions.iter().zip(&mesh.positions) {
+            assert!((0..3).all(|k| (a[k] - b[k]).abs() < 1e-15));
+        }
+    }
+
+    #[test]
+    fn smooth_tenfold_population_is_equalized() {
+        // Density varying smoothly by a factor 10 from the south to the north pole.
+        let mesh = icosphere(4).unwrap();
+        let area = face_areas(&mesh.positions, &mesh.faces);
+        let pop: Vec<f64> = mesh
+            .faces
+            .iter()
+            .zip(&area)
+            .map(|(f, a)| {
+                let z = f.iter().map(|&v| mesh.positions[v as usize][2]).sum::<f64>() / 3.0;
+                a * (1.0 + 4.5 * (z + 1.0))
+            })
+            .collect();
+        let r = run(&mesh, &pop, &Config::default(), &mut |_| {}).unwrap();
+        assert!(r.converged);
+        let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Sphere, None);
+        assert_eq!(m.flipped_triangles, 0);
+        assert!(m.density_var_final <= 1e-4, "{m:?}");
+        // From the identity map the density is far from equal; the flow equalizes it too.
+        let r = run_from(&mesh, &pop, mesh.positions.clone(), &Config::default(), &mut |_| {})
+            .unwrap();
+        let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Sphere, None);
+        assert!(m.density_var_initial > 0.1, "{m:?}");
+        assert!(m.density_var_final <= 1e-4, "{m:?}");
+        assert_eq!(m.flipped_triangles, 0);
+        for p in &r.positions {
+            assert!((crate::geometry::norm(*p) - 1.0).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn a_disk_is_refused() {
+        let disk = crate::generate::regular_polygon(12, 3).unwrap();
+        let pop = face_areas(&disk.positions, &disk.faces);
+        let e = run(&disk, &pop, &Config::default(), &mut |_| {}).unwrap_err();
+        assert!(matches!(e, Error::Topology { .. }), "{e}");
+    }
 }

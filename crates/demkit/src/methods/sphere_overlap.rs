@@ -441,12 +441,14 @@ mod tests {
         let mesh = icosphere(3).unwrap();
         let faces = &mesh.faces;
         let corrector = OverlapCorrector::new(&mesh.positions, faces);
-        // Push one vertex across its neighbours: a local fold-over.
+        // Push one vertex just across the far edge of one of its faces: a local fold-over.
         let mut map = mesh.positions.clone();
-        let v = 100;
-        let nb = faces.iter().find(|f| f.contains(&(v as u32))).unwrap();
-        let w = nb.iter().map(|&u| u as usize).find(|&u| u != v).unwrap();
-        map[v] = normalize(add(map[w], scale(crate::geometry::sub(map[w], map[v]), 0.8)));
+        let v = 100u32;
+        let f = faces.iter().find(|f| f.contains(&v)).unwrap();
+        let others: Vec<usize> = f.iter().filter(|&&u| u != v).map(|&u| u as usize).collect();
+        let mid = scale(add(map[others[0]], map[others[1]]), 0.5);
+        let p = map[v as usize];
+        map[v as usize] = normalize(add(mid, scale(crate::geometry::sub(mid, p), 0.05)));
         assert!(has_spherical_flip(&map, faces));
         corrector.correct(&mut map);
         assert!(!has_spherical_flip(&map, faces));
