@@ -45,7 +45,12 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     let population = face_populations(&PopulationSpec::parse(&a.population), &mesh)?;
 
     let landmarks: Option<Vec<(usize, [f64; 3])>> = match &a.landmarks {
-        Some(path) if matches!(method, Method::Lsdem | Method::Sdem | Method::SphericalConformal) => {
+        Some(path)
+            if matches!(
+                method,
+                Method::Lsdem | Method::Sdem | Method::SphericalConformal
+            ) =>
+        {
             let l = demkit::io::landmarks::read_landmarks(path, mesh.n_vertices())?;
             Some(l.into_iter().map(|l| (l.vertex, l.target)).collect())
         }
@@ -220,7 +225,8 @@ fn warn_unused(a: &MapArgs, m: Method) {
     }
     let unused: Vec<&str> = [
         (
-            a.landmarks.is_some() && !matches!(m, Method::Lsdem | Method::Sdem | Method::SphericalConformal),
+            a.landmarks.is_some()
+                && !matches!(m, Method::Lsdem | Method::Sdem | Method::SphericalConformal),
             "--landmarks",
         ),
         (a.torus.is_some(), "--torus"),
@@ -236,7 +242,11 @@ fn warn_unused(a: &MapArgs, m: Method) {
     if !unused.is_empty()
         && matches!(
             m,
-            Method::Dem | Method::DemShape | Method::Sdem | Method::Lsdem | Method::SphericalConformal
+            Method::Dem
+                | Method::DemShape
+                | Method::Sdem
+                | Method::Lsdem
+                | Method::SphericalConformal
         )
     {
         eprintln!(

@@ -758,7 +758,10 @@ fn check_sphere_output(s: &Scratch, input: &common::Mesh, out: &str) -> common::
     assert_eq!(output.faces, input.faces, "same faces in the same order");
     for (i, p) in output.positions.iter().enumerate() {
         let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
-        assert!((r - 1.0).abs() < 1e-9, "vertex {i} is off the unit sphere: |v| = {r}");
+        assert!(
+            (r - 1.0).abs() < 1e-9,
+            "vertex {i} is off the unit sphere: |v| = {r}"
+        );
     }
     output
 }
@@ -769,7 +772,14 @@ fn sdem_maps_an_icosphere_with_a_varying_population() {
     s.generate(&["icosphere", "--subdivisions", "3", "--out", "s.obj"]);
     let (input, _) = parse_obj(&s.read("s.obj"));
     s.ok(&[
-        "map", "s.obj", "--out", "o.obj", "--population", "area*(2+z)", "--report", "r.json",
+        "map",
+        "s.obj",
+        "--out",
+        "o.obj",
+        "--population",
+        "area*(2+z)",
+        "--report",
+        "r.json",
         "--quiet",
     ]);
     let r = json_file(&s.path("r.json"));
@@ -786,14 +796,27 @@ fn sdem_maps_an_icosphere_with_a_varying_population() {
 fn auto_picks_sdem_for_a_sphere_and_lsdem_with_landmarks() {
     let s = Scratch::new("autosdem");
     s.generate(&["uv-sphere", "--lat", "12", "--lon", "16", "--out", "s.obj"]);
-    s.ok(&["map", "s.obj", "--out", "o.obj", "--report", "r.json", "--quiet"]);
-    assert_eq!(at(&json_file(&s.path("r.json")), "method").as_str(), Some("sdem"));
+    s.ok(&[
+        "map", "s.obj", "--out", "o.obj", "--report", "r.json", "--quiet",
+    ]);
+    assert_eq!(
+        at(&json_file(&s.path("r.json")), "method").as_str(),
+        Some("sdem")
+    );
     // Vertex 0 is the north pole of the UV sphere; send it a little south.
     let q = [0.2f64, 0.0, 1.0];
     let l = (q[0] * q[0] + q[2] * q[2]).sqrt();
     s.write("l.txt", format!("0 {} 0 {}\n", q[0] / l, q[2] / l));
     s.ok(&[
-        "map", "s.obj", "--out", "o.obj", "--landmarks", "l.txt", "--report", "r.json", "--quiet",
+        "map",
+        "s.obj",
+        "--out",
+        "o.obj",
+        "--landmarks",
+        "l.txt",
+        "--report",
+        "r.json",
+        "--quiet",
     ]);
     let r = json_file(&s.path("r.json"));
     assert_eq!(at(&r, "method").as_str(), Some("lsdem"));
@@ -809,7 +832,14 @@ fn spherical_conformal_writes_the_initial_map() {
     s.generate(&["icosphere", "--subdivisions", "2", "--out", "s.obj"]);
     let (input, _) = parse_obj(&s.read("s.obj"));
     s.ok(&[
-        "map", "s.obj", "--out", "o.obj", "--method", "spherical-conformal", "--report", "r.json",
+        "map",
+        "s.obj",
+        "--out",
+        "o.obj",
+        "--method",
+        "spherical-conformal",
+        "--report",
+        "r.json",
         "--quiet",
     ]);
     let r = json_file(&s.path("r.json"));
@@ -841,6 +871,17 @@ fn lsdem_landmark_errors_are_refused() {
     lsdem("missing.txt").input_error_naming(&["missing.txt"]);
     map(&s, "s.obj", &["--method", "lsdem"]).input_error_naming(&["--landmarks"]);
     s.write("ok.txt", "0 0 0 1\n");
-    map(&s, "s.obj", &["--method", "lsdem", "--landmarks", "ok.txt", "--gamma", "-1"])
-        .input_error_naming(&["--gamma"]);
+    map(
+        &s,
+        "s.obj",
+        &[
+            "--method",
+            "lsdem",
+            "--landmarks",
+            "ok.txt",
+            "--gamma",
+            "-1",
+        ],
+    )
+    .input_error_naming(&["--gamma"]);
 }

@@ -75,15 +75,15 @@ fn jacobi_eigen4(mut a: [[f64; 4]; 4]) -> ([f64; 4], [[f64; 4]; 4]) {
                 let t = if theta == 0.0 { 1.0 } else { t };
                 let c = 1.0 / (t * t + 1.0).sqrt();
                 let s = t * c;
-                for k in 0..4 {
-                    let (akp, akq) = (a[k][p], a[k][q]);
-                    a[k][p] = c * akp - s * akq;
-                    a[k][q] = s * akp + c * akq;
+                for row in a.iter_mut() {
+                    let (akp, akq) = (row[p], row[q]);
+                    row[p] = c * akp - s * akq;
+                    row[q] = s * akp + c * akq;
                 }
+                let (row_p, row_q) = (a[p], a[q]);
                 for k in 0..4 {
-                    let (apk, aqk) = (a[p][k], a[q][k]);
-                    a[p][k] = c * apk - s * aqk;
-                    a[q][k] = s * apk + c * aqk;
+                    a[p][k] = c * row_p[k] - s * row_q[k];
+                    a[q][k] = s * row_p[k] + c * row_q[k];
                 }
                 for row in v.iter_mut() {
                     let (vp, vq) = (row[p], row[q]);
@@ -121,7 +121,11 @@ mod tests {
                 [t.sin(), (1.3 * t).cos(), 0.2 * t - 0.5]
             })
             .collect();
-        for (axis, angle) in [([0.3, -1.0, 0.5], 2.5), ([0.0, 0.0, 1.0], 0.1), ([1.0, 1.0, 0.0], 3.1)] {
+        for (axis, angle) in [
+            ([0.3, -1.0, 0.5], 2.5),
+            ([0.0, 0.0, 1.0], 0.1),
+            ([1.0, 1.0, 0.0], 3.1),
+        ] {
             let r = rot(axis, angle);
             let q: Vec<[f64; 3]> = p.iter().map(|&x| mat_vec(&r, x)).collect();
             let found = optimal_rotation(&p, &q);

@@ -191,7 +191,8 @@ pub fn mobius_area_correction(
             let mut h2 = h;
             for (i, row) in h2.iter_mut().enumerate() {
                 for (j, x) in row.iter_mut().enumerate() {
-                    *x += ((sy + yhy) * s[i] * s[j]) / (sy * sy) - (hy[i] * s[j] + s[i] * hy[j]) / sy;
+                    *x +=
+                        ((sy + yhy) * s[i] * s[j]) / (sy * sy) - (hy[i] * s[j] + s[i] * hy[j]) / sy;
                 }
             }
             h = h2;
@@ -244,7 +245,11 @@ mod tests {
     #[test]
     fn complex_step_gradient_matches_finite_differences() {
         let mesh = icosphere(2).unwrap();
-        let x: Vec<[f64; 3]> = mesh.positions.iter().map(|&p| mobius([0.2, 0.1, -0.3], p)).collect();
+        let x: Vec<[f64; 3]> = mesh
+            .positions
+            .iter()
+            .map(|&p| mobius([0.2, 0.1, -0.3], p))
+            .collect();
         let target = face_areas(&mesh.positions, &mesh.faces);
         let s: f64 = target.iter().sum();
         let lt: Vec<f64> = target.iter().map(|t| (t / s).ln()).collect();
@@ -259,7 +264,11 @@ mod tests {
             let fp = objective_and_gradient(&x, &mesh.faces, &lt, ap).0;
             let fm = objective_and_gradient(&x, &mesh.faces, &lt, am).0;
             let fd = (fp - fm) / (2.0 * h);
-            assert!((fd - g[k]).abs() < 1e-5 * (1.0 + g[k].abs()), "k={k}: {fd} vs {}", g[k]);
+            assert!(
+                (fd - g[k]).abs() < 1e-5 * (1.0 + g[k].abs()),
+                "k={k}: {fd} vs {}",
+                g[k]
+            );
         }
     }
 
@@ -272,7 +281,11 @@ mod tests {
         assert!(norm(c.a) < 1e-3, "a = {:?}", c.a);
         assert!(c.after <= c.before);
         // Distorted by a known Möbius map: the correction recovers an area-uniform map.
-        let warped: Vec<[f64; 3]> = mesh.positions.iter().map(|&p| mobius([0.0, 0.4, 0.3], p)).collect();
+        let warped: Vec<[f64; 3]> = mesh
+            .positions
+            .iter()
+            .map(|&p| mobius([0.0, 0.4, 0.3], p))
+            .collect();
         let c = mobius_area_correction(&warped, &mesh.faces, &area);
         assert!(c.before > 0.3, "before {}", c.before);
         assert!(c.after < 0.02, "after {}", c.after);

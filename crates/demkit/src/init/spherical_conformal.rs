@@ -49,7 +49,8 @@ pub fn count_spherical_flips(map: &[[f64; 3]], faces: &[[u32; 3]]) -> usize {
     faces
         .par_iter()
         .filter(|f| {
-            let o = spherical_orientation(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize]);
+            let o =
+                spherical_orientation(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize]);
             !(o > 0.0)
         })
         .count()
@@ -253,7 +254,11 @@ mod tests {
 
     #[test]
     fn regularity_of_equilateral_face_is_zero() {
-        let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 3f64.sqrt() / 2.0, 0.0]];
+        let p = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.5, 3f64.sqrt() / 2.0, 0.0],
+        ];
         let r = face_regularity(&p, &[[0, 1, 2]]);
         assert!(r[0] < 1e-15);
     }

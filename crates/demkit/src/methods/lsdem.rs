@@ -25,10 +25,10 @@ use super::sphere_input::{check_sphere_input, initial_sphere_map};
 use super::sphere_overlap::{OverlapCorrector, advance, tangential};
 use super::{MapResult, Progress, ProgressFn, StopReason};
 use crate::fem::{cotangent_weights, lumped_mass};
-use crate::linalg::{CachedCholesky, StiffnessPattern};
 use crate::geometry::rotation::optimal_rotation;
 use crate::geometry::sphere::{mat_vec, normalize};
 use crate::geometry::{norm, sub};
+use crate::linalg::{CachedCholesky, StiffnessPattern};
 use crate::{Error, Result, TriMesh};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -111,7 +111,11 @@ fn check_config(c: &Config) -> Result<()> {
             c.diffusion_dt
         )));
     }
-    for (name, w) in [("--alpha", c.alpha), ("--beta", c.beta), ("--gamma", c.gamma)] {
+    for (name, w) in [
+        ("--alpha", c.alpha),
+        ("--beta", c.beta),
+        ("--gamma", c.gamma),
+    ] {
         if !(w >= 0.0 && w.is_finite()) {
             return Err(Error::Argument(format!(
                 "{name} must be non-negative, got {w}"
@@ -157,7 +161,8 @@ pub fn run(
         // §3.2.2: the optimal rotation.
         let current: Vec<[f64; 3]> = landmarks.iter().map(|l| x[l.0]).collect();
         let r = optimal_rotation(&current, &targets);
-        x.par_iter_mut().for_each(|p| *p = normalize(mat_vec(&r, *p)));
+        x.par_iter_mut()
+            .for_each(|p| *p = normalize(mat_vec(&r, *p)));
         // (3.27)–(3.32): the descent direction.
         let d = diffusion.measure(&x);
         let v = diffusion.velocity(&x, &d, config.diffusion_dt)?;
@@ -165,7 +170,8 @@ pub fn run(
         // implicit, f_new = argmin ½|f − f*|²_A + ½δtβ fᵀLf + ½δtγ Σ|f(p_i) − q_i|², i.e.
         // (A + δtβ L + δtγ C) f_new = A f* + δtγ C q with f* = f + δt α ṽ.
         let mut w = cotangent_weights(&x, faces);
-        w.par_iter_mut().for_each(|c| *c = c.map(|t| t * config.dt * config.beta));
+        w.par_iter_mut()
+            .for_each(|c| *c = c.map(|t| t * config.dt * config.beta));
         let mut diag = lumped_mass(x.len(), faces, &d.areas);
         let mass = diag.clone();
         for &(vtx, _) in landmarks {
@@ -272,7 +278,14 @@ mod tests {
             .map(|&v| (v, rot(mesh.positions[v])))
             .collect();
         let r = run(&mesh, &pop, &landmarks, &Config::default(), &mut |_| {}).unwrap();
-        let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Sphere, Some(&landmarks));
+        let m = compute(
+            &mesh,
+            &pop,
+            &r.initial,
+            &r.positions,
+            Domain::Sphere,
+            Some(&landmarks),
+        );
         assert_eq!(m.flipped_triangles, 0);
         assert!(m.landmark_error.unwrap() < 0.02, "{m:?}");
         assert!(m.density_var_final < 1e-3, "{m:?}");
@@ -293,7 +306,14 @@ mod tests {
         ]);
         let landmarks = vec![(0, p0), (100, moved), (400, mesh.positions[400])];
         let r = run(&mesh, &pop, &landmarks, &Config::default(), &mut |_| {}).unwrap();
-        let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Sphere, Some(&landmarks));
+        let m = compute(
+            &mesh,
+            &pop,
+            &r.initial,
+            &r.positions,
+            Domain::Sphere,
+            Some(&landmarks),
+        );
         assert_eq!(m.flipped_triangles, 0);
         assert!(m.landmark_error.unwrap() < 0.02, "{m:?}");
     }

@@ -129,7 +129,8 @@ pub fn run_from(
                 break;
             }
             let stalled = history.len() > config.window
-                && best.0 > (1.0 - config.min_progress) * history[history.len() - 1 - config.window];
+                && best.0
+                    > (1.0 - config.min_progress) * history[history.len() - 1 - config.window];
             if stalled || outcome.fraction == 0.0 {
                 stop_reason = StopReason::Stationary;
                 break;
@@ -168,8 +169,14 @@ mod tests {
         // The icosphere onto itself with its own face areas as population: ρ is exactly 1.
         let mesh = icosphere(3).unwrap();
         let pop = face_areas(&mesh.positions, &mesh.faces);
-        let r = run_from(&mesh, &pop, mesh.positions.clone(), &Config::default(), &mut |_| {})
-            .unwrap();
+        let r = run_from(
+            &mesh,
+            &pop,
+            mesh.positions.clone(),
+            &Config::default(),
+            &mut |_| {},
+        )
+        .unwrap();
         assert_eq!(r.iterations, 0);
         assert_eq!(r.stop_reason, StopReason::Tolerance);
         for (a, b) in r.positions.iter().zip(&mesh.positions) {
@@ -187,7 +194,11 @@ mod tests {
             .iter()
             .zip(&area)
             .map(|(f, a)| {
-                let z = f.iter().map(|&v| mesh.positions[v as usize][2]).sum::<f64>() / 3.0;
+                let z = f
+                    .iter()
+                    .map(|&v| mesh.positions[v as usize][2])
+                    .sum::<f64>()
+                    / 3.0;
                 a * (1.0 + 4.5 * (z + 1.0))
             })
             .collect();
@@ -197,8 +208,14 @@ mod tests {
         assert_eq!(m.flipped_triangles, 0);
         assert!(m.density_var_final <= 1e-4, "{m:?}");
         // From the identity map the density is far from equal; the flow equalizes it too.
-        let r = run_from(&mesh, &pop, mesh.positions.clone(), &Config::default(), &mut |_| {})
-            .unwrap();
+        let r = run_from(
+            &mesh,
+            &pop,
+            mesh.positions.clone(),
+            &Config::default(),
+            &mut |_| {},
+        )
+        .unwrap();
         let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Sphere, None);
         assert!(m.density_var_initial > 0.1, "{m:?}");
         assert!(m.density_var_final <= 1e-4, "{m:?}");

@@ -17,8 +17,6 @@ pub(crate) struct Density {
     pub rho_v: Vec<f64>,
     /// sd(ρ_V) / mean(ρ_V): SDEM's stopping quantity.
     pub sd_over_mean: f64,
-    /// Mean |log((A/ΣA)/(P/ΣP))| over the faces.
-    pub error: f64,
 }
 
 /// The diffusion operators of one mesh.
@@ -56,22 +54,15 @@ impl<'a> SphereDiffusion<'a> {
         let n = rho_v.len() as f64;
         let mean = rho_v.iter().sum::<f64>() / n;
         // sd of ρ/mean rather than sd(ρ)/mean: squares of tiny densities would underflow.
-        let sd_over_mean =
-            (rho_v.iter().map(|x| (x / mean - 1.0).powi(2)).sum::<f64>() / n).sqrt();
-        let sp: f64 = self.population.iter().sum();
-        let sa: f64 = areas.iter().sum();
-        let error = self
-            .population
-            .par_iter()
-            .zip(areas.par_iter())
-            .map(|(p, a)| ((a / sa) / (p / sp)).ln().abs())
-            .sum::<f64>()
-            / areas.len() as f64;
+        let sd_over_mean = (rho_v.iter().map(|x| (x / mean - 1.0).powi(2)).sum::<f64>() / n).sqrt();
         Density {
             areas,
             rho_v,
-            sd_over_mean: if sd_over_mean.is_finite() { sd_over_mean } else { f64::INFINITY },
-            error: if error.is_finite() { error } else { f64::INFINITY },
+            sd_over_mean: if sd_over_mean.is_finite() {
+                sd_over_mean
+            } else {
+                f64::INFINITY
+            },
         }
     }
 

@@ -18,7 +18,11 @@ pub(crate) fn check_sphere_input(mesh: &TriMesh, population: &[f64], method: &st
             format!(
                 "an open surface with {} boundary loop{} and genus {}",
                 topo.boundary_loops.len(),
-                if topo.boundary_loops.len() == 1 { "" } else { "s" },
+                if topo.boundary_loops.len() == 1 {
+                    ""
+                } else {
+                    "s"
+                },
                 topo.genus
             )
         };

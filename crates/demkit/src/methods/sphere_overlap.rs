@@ -66,7 +66,10 @@ impl OverlapCorrector {
                 for &f in self.incidence.faces_of(v) {
                     for &u in &self.faces[f as usize] {
                         if u as usize != v {
-                            h = h.min(crate::geometry::norm(crate::geometry::sub(map[u as usize], map[v])));
+                            h = h.min(crate::geometry::norm(crate::geometry::sub(
+                                map[u as usize],
+                                map[v],
+                            )));
                         }
                     }
                 }
