@@ -8,7 +8,8 @@
 //!    density to the moved map (3.22) — until sd(ρ_V)/mean(ρ_V) < ε.
 //!
 //! When a step had to be shortened to a fraction τ to stay bijective (`sphere_overlap`), the
-//! next velocity is taken from the density diffused for δt/τ (at most 20 δt) instead of δt:
+//! next velocity is taken from the density diffused longer (twice as long as the last time, at
+//! least δt/τ, at most 20 δt) instead of δt:
 //! the flow was too steep to follow there, and a smoother one lets the map move on; full steps
 //! bring the diffusion time back to δt, so maps that never need short steps follow the paper.
 //!
@@ -119,12 +120,15 @@ pub fn run_from(
             let outcome = advance(&mut x, &step, faces, &corrector, start);
             start = (2.0 * outcome.fraction).min(1.0);
             // A step that had to be shortened to the fraction τ met a flow too steep to follow:
-            // the next velocity comes from a density diffused for δt/τ (at most 20 δt), which
-            // smooths the flow there; full steps bring the diffusion time back to δt.
+            // the next velocity comes from a density diffused longer (twice as long, at least
+            // δt/τ, at most 20 δt), which smooths the flow there; full steps halve the diffusion
+            // time back towards δt.
             diffusion_time = if outcome.fraction >= 1.0 {
                 (0.5 * diffusion_time).max(config.dt)
             } else {
-                (config.dt / outcome.fraction.max(1e-3)).min(20.0 * config.dt)
+                (2.0 * diffusion_time)
+                    .max(config.dt / outcome.fraction.max(1e-3))
+                    .min(20.0 * config.dt)
             };
             corrected += outcome.corrected as usize;
             d = diffusion.measure(&x);
