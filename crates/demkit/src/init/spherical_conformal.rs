@@ -75,33 +75,34 @@ pub fn spherical_conformal_map(
     let big = (0..faces.len())
         .min_by(|&a, &b| reg[a].total_cmp(&reg[b]))
         .unwrap_or(0);
-    let plane = match punctured_plane_map(positions, faces, big, false)? {
-        Some(z) => z,
-        None => {
+    for positive in [false, true] {
+        let Some(plane) = punctured_plane_map(positions, faces, big, positive)? else {
+            continue;
+        };
+        if positive {
             notes.push(
                 "the cotangent map of the punctured surface folded over; used positive weights"
                     .into(),
             );
-            punctured_plane_map(positions, faces, big, true)?.ok_or_else(|| {
-                Error::Numerical("the planar map of the punctured surface folded over".into())
-            })?
         }
-    };
-    // Step 2: onto the sphere.
-    let sphere = plane_to_sphere(&plane, faces, big);
-    if count_spherical_flips(&sphere, faces) > 0 {
-        return Err(Error::Numerical(
-            "the spherical conformal map has flipped triangles".into(),
-        ));
-    }
-    // Step 3: south-pole quasi-conformal correction.
-    match south_pole_correction(positions, faces, &sphere) {
-        Ok(s) if count_spherical_flips(&s, faces) == 0 => Ok(s),
-        _ => {
+        // Step 2: onto the sphere. A large face next to the puncture can come out flipped
+        // (its corners' chord triangle faces inwards although the planar face does not); the
+        // south-pole step, which sees that region in the middle of its plane, repairs it.
+        let sphere = plane_to_sphere(&plane, faces, big);
+        // Step 3: south-pole quasi-conformal correction.
+        if let Ok(s) = south_pole_correction(positions, faces, &sphere) {
+            if count_spherical_flips(&s, faces) == 0 {
+                return Ok(s);
+            }
+        }
+        if count_spherical_flips(&sphere, faces) == 0 {
             notes.push("the south-pole correction of the spherical map was skipped".into());
-            Ok(sphere)
+            return Ok(sphere);
         }
     }
+    Err(Error::Numerical(
+        "the spherical conformal map has flipped triangles".into(),
+    ))
 }
 
 /// Harmonic map of the surface without face `big` onto the plane, `big`'s corners fixed at the
