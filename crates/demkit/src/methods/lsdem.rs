@@ -154,7 +154,6 @@ pub fn run(
     let mut history = Vec::new();
     let mut stop_reason = StopReason::MaxIter;
     let mut iterations = 0;
-    let mut start = 1.0;
     for it in 1..=config.max_iter {
         iterations = it;
         let prev = x.clone();
@@ -201,8 +200,7 @@ pub fn run(
             .collect();
         // (3.33), overlap correction, recoupling (the density is re-derived from the map at the
         // start of every iteration).
-        let outcome = advance(&mut x, &step, faces, &corrector, start);
-        start = (2.0 * outcome.fraction).min(1.0);
+        advance(&mut x, &step, faces, &corrector);
         let change = x
             .par_iter()
             .zip(prev.par_iter())

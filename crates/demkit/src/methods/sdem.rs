@@ -108,7 +108,6 @@ pub fn run_from(
     let mut stop_reason = StopReason::MaxIter;
     let mut iterations = 0;
     let mut corrected = 0usize;
-    let mut start = 1.0;
     let mut diffusion_time = config.dt;
     if d.sd_over_mean < config.epsilon {
         stop_reason = StopReason::Tolerance;
@@ -117,8 +116,7 @@ pub fn run_from(
             iterations = it;
             let v = diffusion.velocity(&x, &d, diffusion_time)?;
             let step: Vec<[f64; 3]> = v.iter().map(|s| s.map(|c| c * config.dt)).collect();
-            let outcome = advance(&mut x, &step, faces, &corrector, start);
-            start = (2.0 * outcome.fraction).min(1.0);
+            let outcome = advance(&mut x, &step, faces, &corrector);
             // A step that had to be shortened to the fraction τ met a flow too steep to follow:
             // the next velocity comes from a density diffused longer (twice as long, at least
             // δt/τ, at most 20 δt), which smooths the flow there; full steps halve the diffusion

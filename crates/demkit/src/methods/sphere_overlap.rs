@@ -278,9 +278,7 @@ pub(crate) struct StepOutcome {
 
 /// Moves the flip-free spherical map `map` by the tangent `step` (then back onto the sphere)
 /// without ever leaving a flipped face: the step; if faces flip, the overlap correction;
-/// if faces still flip, the step halved and tried again (§3.1.3), six times. (The first try is
-/// the fraction `start`: a caller passes twice the fraction the previous step needed, so that
-/// a flow that needs short steps does not pay for the failing long ones every time.) If that fails,
+/// if faces still flip, the step halved and tried again (§3.1.3), down to 1/64. If that fails,
 /// every vertex's step is limited to half its shortest edge (then corrected likewise); if that
 /// fails, the limited step is damped locally: the vertices of every face that would collapse
 /// have their step shortened (a face whose corners all stop cannot flip), so that a face being
@@ -291,7 +289,6 @@ pub(crate) fn advance(
     step: &[[f64; 3]],
     faces: &[[u32; 3]],
     corrector: &OverlapCorrector,
-    start: f64,
 ) -> StepOutcome {
     let propose = |scale_of: &(dyn Fn(usize) -> f64 + Sync)| -> Vec<[f64; 3]> {
         map.par_iter()
@@ -300,7 +297,7 @@ pub(crate) fn advance(
             .map(|(i, (&p, &s))| normalize(add(p, scale(s, scale_of(i)))))
             .collect()
     };
-    let mut tau = start.clamp(1.0 / 64.0, 1.0);
+    let mut tau = 1.0;
     for _ in 0..7 {
         let mut prop = propose(&|_| tau);
         if !has_spherical_flip(&prop, faces) {
@@ -472,7 +469,7 @@ mod tests {
                 tangential([0.3 * t.cos(), 0.3 * t.sin(), 0.3 * (3.0 * t).cos()], p)
             })
             .collect();
-        let out = advance(&mut map, &step, faces, &corrector, 1.0);
+        let out = advance(&mut map, &step, faces, &corrector);
         assert!(!has_spherical_flip(&map, faces));
         assert!(out.fraction > 0.0);
     }
