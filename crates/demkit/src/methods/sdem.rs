@@ -8,8 +8,8 @@
 //!    density to the moved map (3.22) — until sd(ρ_V)/mean(ρ_V) < ε.
 //!
 //! When a step had to be shortened to a fraction τ to stay bijective (`sphere_overlap`), the
-//! next velocity is taken from the density diffused longer (twice as long as the last time, at
-//! least δt/τ, at most 20 δt) instead of δt:
+//! next velocity is taken from the density diffused for δt/τ instead of δt (doubling while the
+//! steps stay shorter than δt/8, at most 20 δt):
 //! the flow was too steep to follow there, and a smoother one lets the map move on; full steps
 //! bring the diffusion time back to δt, so maps that never need short steps follow the paper.
 //!
@@ -118,15 +118,17 @@ pub fn run_from(
             let step: Vec<[f64; 3]> = v.iter().map(|s| s.map(|c| c * config.dt)).collect();
             let outcome = advance(&mut x, &step, faces, &corrector);
             // A step that had to be shortened to the fraction τ met a flow too steep to follow:
-            // the next velocity comes from a density diffused longer (twice as long, at least
-            // δt/τ, at most 20 δt), which smooths the flow there; full steps halve the diffusion
-            // time back towards δt.
+            // the next velocity comes from a density diffused for δt/τ, which smooths the flow
+            // there; while steps stay very short (τ ≤ 1/8) the diffusion time keeps doubling
+            // (at most 20 δt); full steps halve it back towards δt.
             diffusion_time = if outcome.fraction >= 1.0 {
                 (0.5 * diffusion_time).max(config.dt)
-            } else {
+            } else if outcome.fraction <= 0.125 {
                 (2.0 * diffusion_time)
                     .max(config.dt / outcome.fraction.max(1e-3))
                     .min(20.0 * config.dt)
+            } else {
+                (config.dt / outcome.fraction).min(20.0 * config.dt)
             };
             corrected += outcome.corrected as usize;
             d = diffusion.measure(&x);
