@@ -90,10 +90,10 @@ pub fn spherical_conformal_map(
         // south-pole step, which sees that region in the middle of its plane, repairs it.
         let sphere = plane_to_sphere(&plane, faces, big);
         // Step 3: south-pole quasi-conformal correction.
-        if let Ok(s) = south_pole_correction(positions, faces, &sphere) {
-            if count_spherical_flips(&s, faces) == 0 {
-                return Ok(s);
-            }
+        if let Ok(s) = south_pole_correction(positions, faces, &sphere)
+            && count_spherical_flips(&s, faces) == 0
+        {
+            return Ok(s);
         }
         if count_spherical_flips(&sphere, faces) == 0 {
             notes.push("the south-pole correction of the spherical map was skipped".into());
