@@ -7,7 +7,7 @@ use crate::report::{InputSummary, Report};
 use demkit::TriMesh;
 use demkit::init::shape::Shape;
 use demkit::mesh::topology::topology;
-use demkit::methods::{dem, dem_shape};
+use demkit::methods::{dem, dem_shape, lsdem, sdem, spherical_conformal};
 use demkit::metrics::{Domain, compute};
 use demkit::population::{PopulationSpec, face_populations};
 use std::path::Path;
@@ -44,6 +44,24 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     warn_unused(a, method);
     let population = face_populations(&PopulationSpec::parse(&a.population), &mesh)?;
 
+    let landmarks: Option<Vec<(usize, [f64; 3])>> = match &a.landmarks {
+        Some(path)
+            if matches!(
+                method,
+                Method::Lsdem | Method::Sdem | Method::SphericalConformal
+            ) =>
+        {
+            let l = demkit::io::landmarks::read_landmarks(path, mesh.n_vertices())?;
+            Some(l.into_iter().map(|l| (l.vertex, l.target)).collect())
+        }
+        _ => None,
+    };
+    if method == Method::Lsdem && landmarks.is_none() {
+        return Err(Failure::input(
+            "--method lsdem needs --landmarks FILE (vertex_index x y z per line)",
+        ));
+    }
+
     let bar = Bar::new(a.quiet, method.name());
     let mut progress = |p| bar.update(p);
     let result = match method {
@@ -64,6 +82,25 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             apply_common(&mut c.epsilon, &mut c.max_iter, &mut c.dt, a);
             dem_shape::run(&mesh, &population, &c, &mut progress)
         }
+        Method::Sdem => {
+            let mut c = sdem::Config::default();
+            let mut dt = Some(c.dt);
+            apply_common(&mut c.epsilon, &mut c.max_iter, &mut dt, a);
+            c.dt = dt.unwrap_or(c.dt);
+            sdem::run(&mesh, &population, &c, &mut progress)
+        }
+        Method::SphericalConformal => spherical_conformal::run(&mesh, &population),
+        Method::Lsdem => {
+            let mut c = lsdem::Config::default();
+            let mut dt = Some(c.dt);
+            apply_common(&mut c.epsilon, &mut c.max_iter, &mut dt, a);
+            c.dt = dt.unwrap_or(c.dt);
+            c.alpha = a.alpha.unwrap_or(c.alpha);
+            c.beta = a.beta.unwrap_or(c.beta);
+            c.gamma = a.gamma.unwrap_or(c.gamma);
+            let l = landmarks.as_deref().unwrap_or(&[]);
+            lsdem::run(&mesh, &population, l, &c, &mut progress)
+        }
         other => {
             bar.finish();
             return Err(not_implemented(other, a.method == Method::Auto));
@@ -71,6 +108,10 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     };
     bar.finish();
     let result = result?;
+    let domain = match method {
+        Method::Sdem | Method::Lsdem | Method::SphericalConformal => Domain::Sphere,
+        _ => Domain::Plane,
+    };
     let out_mesh = TriMesh::new(result.positions.clone(), mesh.faces.clone());
     demkit::io::write_mesh(&a.out, &out_mesh)?;
     let metrics = compute(
@@ -78,8 +119,8 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         &population,
         &result.initial,
         &result.positions,
-        Domain::Plane,
-        None,
+        domain,
+        landmarks.as_deref(),
     );
     if let Some(path) = &a.report {
         let input = InputSummary {
@@ -183,18 +224,31 @@ fn warn_unused(a: &MapArgs, m: Method) {
         return;
     }
     let unused: Vec<&str> = [
-        (a.landmarks.is_some(), "--landmarks"),
+        (
+            a.landmarks.is_some()
+                && !matches!(m, Method::Lsdem | Method::Sdem | Method::SphericalConformal),
+            "--landmarks",
+        ),
         (a.torus.is_some(), "--torus"),
-        (a.alpha.is_some(), "--alpha"),
-        (a.beta.is_some(), "--beta"),
-        (a.gamma.is_some(), "--gamma"),
+        (a.alpha.is_some() && m != Method::Lsdem, "--alpha"),
+        (a.beta.is_some() && m != Method::Lsdem, "--beta"),
+        (a.gamma.is_some() && m != Method::Lsdem, "--gamma"),
         (a.shape.is_some() && m != Method::DemShape, "--shape"),
     ]
     .iter()
     .filter(|(set, _)| *set)
     .map(|(_, n)| *n)
     .collect();
-    if !unused.is_empty() && matches!(m, Method::Dem | Method::DemShape) {
+    if !unused.is_empty()
+        && matches!(
+            m,
+            Method::Dem
+                | Method::DemShape
+                | Method::Sdem
+                | Method::Lsdem
+                | Method::SphericalConformal
+        )
+    {
         eprintln!(
             "warning: {} not used by --method {}",
             unused.join(", "),

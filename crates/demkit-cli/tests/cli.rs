@@ -181,11 +181,11 @@ fn closed_mesh_is_refused_by_dem_shape() {
 }
 
 #[test]
-fn auto_on_a_closed_sphere_names_the_needed_method() {
-    let s = Scratch::new("autosphere");
-    s.generate(&["icosphere", "--subdivisions", "1", "--out", "s.obj"]);
-    map(&s, "s.obj", &[]).input_error_naming(&["sdem"]);
-    map(&s, "s.obj", &["--method", "auto"]).input_error_naming(&["sdem"]);
+fn auto_on_a_closed_torus_names_the_needed_method() {
+    let s = Scratch::new("autotorus");
+    s.generate(&["torus", "--major", "12", "--minor", "8", "--out", "t.obj"]);
+    map(&s, "t.obj", &[]).input_error_naming(&["tdem"]);
+    map(&s, "t.obj", &["--method", "auto"]).input_error_naming(&["tdem"]);
 }
 
 #[test]
@@ -716,7 +716,7 @@ fn explicitly_requested_unimplemented_method_is_named_as_such() {
     let s = Scratch::new("explicit");
     s.generate(&["peaks", "--n", "8", "--out", "p.obj"]);
     let line =
-        map(&s, "p.obj", &["--method", "sdem"]).input_error_naming(&["sdem", "not implemented"]);
+        map(&s, "p.obj", &["--method", "tdem"]).input_error_naming(&["tdem", "not implemented"]);
     assert!(!line.contains("this mesh needs"), "{line}");
 }
 
@@ -745,4 +745,143 @@ fn tiny_populations_are_equalized_like_any_other_scale() {
         b["metrics"]["density_error_mean"].as_f64().unwrap(),
     );
     assert!((ea - eb).abs() < 1e-9, "{ea} vs {eb}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Spherical maps (SDEM, LSDEM, spherical conformal) of genus-0 closed surfaces.
+// ---------------------------------------------------------------------------------------------
+
+/// Asserts the output has the input's faces and every vertex on the unit sphere, and returns it.
+fn check_sphere_output(s: &Scratch, input: &common::Mesh, out: &str) -> common::Mesh {
+    let (output, _) = parse_obj(&s.read(out));
+    assert_eq!(output.positions.len(), input.positions.len());
+    assert_eq!(output.faces, input.faces, "same faces in the same order");
+    for (i, p) in output.positions.iter().enumerate() {
+        let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+        assert!(
+            (r - 1.0).abs() < 1e-9,
+            "vertex {i} is off the unit sphere: |v| = {r}"
+        );
+    }
+    output
+}
+
+#[test]
+fn sdem_maps_an_icosphere_with_a_varying_population() {
+    let s = Scratch::new("sdem");
+    s.generate(&["icosphere", "--subdivisions", "3", "--out", "s.obj"]);
+    let (input, _) = parse_obj(&s.read("s.obj"));
+    s.ok(&[
+        "map",
+        "s.obj",
+        "--out",
+        "o.obj",
+        "--population",
+        "area*(2+z)",
+        "--report",
+        "r.json",
+        "--quiet",
+    ]);
+    let r = json_file(&s.path("r.json"));
+    check_report(&r, "sdem", &input, 0);
+    assert!(number(&r, "metrics.density_var_final") < 1e-4, "{r:#}");
+    assert!(
+        number(&r, "metrics.density_var_initial") > 100.0 * number(&r, "metrics.density_var_final"),
+        "{r:#}"
+    );
+    check_sphere_output(&s, &input, "o.obj");
+}
+
+#[test]
+fn auto_picks_sdem_for_a_sphere_and_lsdem_with_landmarks() {
+    let s = Scratch::new("autosdem");
+    s.generate(&["uv-sphere", "--lat", "12", "--lon", "16", "--out", "s.obj"]);
+    s.ok(&[
+        "map", "s.obj", "--out", "o.obj", "--report", "r.json", "--quiet",
+    ]);
+    assert_eq!(
+        at(&json_file(&s.path("r.json")), "method").as_str(),
+        Some("sdem")
+    );
+    // Vertex 0 is the north pole of the UV sphere; send it a little south.
+    let q = [0.2f64, 0.0, 1.0];
+    let l = (q[0] * q[0] + q[2] * q[2]).sqrt();
+    s.write("l.txt", format!("0 {} 0 {}\n", q[0] / l, q[2] / l));
+    s.ok(&[
+        "map",
+        "s.obj",
+        "--out",
+        "o.obj",
+        "--landmarks",
+        "l.txt",
+        "--report",
+        "r.json",
+        "--quiet",
+    ]);
+    let r = json_file(&s.path("r.json"));
+    assert_eq!(at(&r, "method").as_str(), Some("lsdem"));
+    assert_eq!(count(&r, "metrics.flipped_triangles"), 0);
+    assert!(number(&r, "metrics.landmark_error") < 0.05, "{r:#}");
+    let (input, _) = parse_obj(&s.read("s.obj"));
+    check_sphere_output(&s, &input, "o.obj");
+}
+
+#[test]
+fn spherical_conformal_writes_the_initial_map() {
+    let s = Scratch::new("sconf");
+    s.generate(&["icosphere", "--subdivisions", "2", "--out", "s.obj"]);
+    let (input, _) = parse_obj(&s.read("s.obj"));
+    s.ok(&[
+        "map",
+        "s.obj",
+        "--out",
+        "o.obj",
+        "--method",
+        "spherical-conformal",
+        "--report",
+        "r.json",
+        "--quiet",
+    ]);
+    let r = json_file(&s.path("r.json"));
+    assert_eq!(at(&r, "method").as_str(), Some("spherical-conformal"));
+    assert_eq!(count(&r, "metrics.flipped_triangles"), 0);
+    assert!(number(&r, "metrics.mean_abs_mu") < 0.05, "{r:#}");
+    check_sphere_output(&s, &input, "o.obj");
+}
+
+#[test]
+fn disk_is_refused_by_sdem() {
+    let s = Scratch::new("disksdem");
+    s.write("fan.obj", FAN);
+    map(&s, "fan.obj", &["--method", "sdem"]).input_error_naming(&["sdem", "genus-0 closed"]);
+    map(&s, "fan.obj", &["--method", "spherical-conformal"]).input_error_naming(&["genus-0"]);
+}
+
+#[test]
+fn lsdem_landmark_errors_are_refused() {
+    let s = Scratch::new("lsdembad");
+    s.generate(&["icosphere", "--subdivisions", "1", "--out", "s.obj"]);
+    let lsdem = |file: &str| map(&s, "s.obj", &["--method", "lsdem", "--landmarks", file]);
+    s.write("off.txt", "0 0 0 1\n3 0 0 1.5\n");
+    lsdem("off.txt").input_error_naming(&["vertex 3", "unit sphere"]);
+    s.write("range.txt", "42 0 0 1\n");
+    lsdem("range.txt").input_error_naming(&["42", "out of range"]);
+    s.write("short.txt", "1 0 0.5\n");
+    lsdem("short.txt").input_error_naming(&["unit sphere"]);
+    lsdem("missing.txt").input_error_naming(&["missing.txt"]);
+    map(&s, "s.obj", &["--method", "lsdem"]).input_error_naming(&["--landmarks"]);
+    s.write("ok.txt", "0 0 0 1\n");
+    map(
+        &s,
+        "s.obj",
+        &[
+            "--method",
+            "lsdem",
+            "--landmarks",
+            "ok.txt",
+            "--gamma",
+            "-1",
+        ],
+    )
+    .input_error_naming(&["--gamma"]);
 }

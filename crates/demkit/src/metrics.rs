@@ -5,14 +5,18 @@
 
 use crate::TriMesh;
 use crate::fem::VertexFaces;
-use crate::geometry::signed_areas_2d;
-use crate::qc::beltrami_coefficient_surface;
+use crate::geometry::sphere::spherical_orientation;
+use crate::geometry::{face_areas, signed_areas_2d};
+use crate::qc::{beltrami_coefficient_surface, beltrami_coefficient_surfaces};
 
 /// The target domain of a map, which decides how flips and areas are measured.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Domain {
     /// A planar map (x, y; z ignored).
     Plane,
+    /// A map onto the unit sphere: a face is flipped when ((b−a)×(c−a))·(a+b+c) ≤ 0; areas are
+    /// those of the flat triangles between the mapped corners.
+    Sphere,
 }
 
 /// The report metrics (DESIGN.md, "Report"); serialized with exactly these field names.
@@ -59,6 +63,16 @@ pub fn map_areas(map: &[[f64; 3]], faces: &[[u32; 3]], domain: Domain) -> (Vec<f
                 .filter(|&&a| a == 0.0 || (a > 0.0) != majority_positive)
                 .count();
             (s.iter().map(|a| a.abs()).collect(), flipped)
+        }
+        Domain::Sphere => {
+            let flipped = faces
+                .iter()
+                .filter(|f| {
+                    let [a, b, c] = f.map(|v| map[v as usize]);
+                    !(spherical_orientation(a, b, c) > 0.0)
+                })
+                .count();
+            (face_areas(map, faces), flipped)
         }
     }
 }
@@ -147,6 +161,7 @@ pub fn compute(
     ratio.sort_by(f64::total_cmp);
     let mu = match domain {
         Domain::Plane => beltrami_coefficient_surface(&input.positions, final_map, faces),
+        Domain::Sphere => beltrami_coefficient_surfaces(&input.positions, final_map, faces),
     };
     let abs_mu: Vec<f64> = mu.iter().map(|m| m.norm()).collect();
     let landmark_error = landmarks.map(|l| {
@@ -238,6 +253,24 @@ mod tests {
         let (_, flipped) = map_areas(&map, &faces, Domain::Plane);
         // Signed areas: +, +, − → one flip.
         assert_eq!(flipped, 1);
+    }
+
+    #[test]
+    fn spherical_flips_use_the_outward_test() {
+        // A tetrahedron inscribed in the sphere, outward faces; then one vertex pushed through.
+        let s = 1.0 / 3f64.sqrt();
+        let mut p = vec![[s, s, s], [s, -s, -s], [-s, s, -s], [-s, -s, s]];
+        let faces = vec![[0u32, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]];
+        let (areas, flipped) = map_areas(&p, &faces, Domain::Sphere);
+        assert_eq!(flipped, 0);
+        let a = 2.0 * 3f64.sqrt() * s * s;
+        assert!((areas[0] - a).abs() < 1e-12);
+        // The identity map of the tetrahedron onto itself has μ = 0.
+        let mesh = TriMesh::new(p.clone(), faces.clone());
+        let r = compute(&mesh, &areas, &p, &p, Domain::Sphere, None);
+        assert!(r.max_abs_mu < 1e-12 && r.flipped_triangles == 0);
+        p[0] = [-s, -s, -s];
+        assert!(map_areas(&p, &faces, Domain::Sphere).1 > 0);
     }
 
     #[test]

@@ -3,6 +3,8 @@
 //! implementation for surfaces and for planar maps.
 
 mod plane;
+pub mod rotation;
+pub mod sphere;
 mod vec3;
 
 pub use plane::{PlaneFrame, planar_frame};

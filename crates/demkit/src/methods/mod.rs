@@ -4,7 +4,13 @@
 pub mod dem;
 pub mod dem_shape;
 mod disk_input;
+pub mod lsdem;
 mod planar_diffusion;
+pub mod sdem;
+mod sphere_density;
+mod sphere_input;
+mod sphere_overlap;
+pub mod spherical_conformal;
 
 /// Why an iteration stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

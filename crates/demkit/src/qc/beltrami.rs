@@ -76,6 +76,24 @@ pub fn beltrami_coefficient_surface(
         .collect()
 }
 
+/// Beltrami coefficient per face of the map between two surfaces in R³ with the same
+/// connectivity (e.g. the input surface and its spherical image), each triangle in its own
+/// orthonormal frame ([`local_frame`], counter-clockwise with respect to the face order).
+pub fn beltrami_coefficient_surfaces(
+    source: &[[f64; 3]],
+    target: &[[f64; 3]],
+    faces: &[[u32; 3]],
+) -> Vec<Complex64> {
+    faces
+        .par_iter()
+        .map(|f| {
+            let s = local_frame(f.map(|v| source[v as usize]));
+            let t = local_frame(f.map(|v| target[v as usize]));
+            triangle_beltrami(s, t)
+        })
+        .collect()
+}
+
 /// Truncation 𝕀 of the SDEM paper (3.19): `μ` if `|μ| < 1`, else `(1 − δ) μ / |μ|`
 /// (non-finite μ becomes `1 − δ`).
 pub fn truncate(mu: Complex64, delta: f64) -> Complex64 {

@@ -5,6 +5,7 @@ mod beltrami;
 mod lbs;
 
 pub use beltrami::{
-    beltrami_coefficient, beltrami_coefficient_surface, triangle_beltrami, truncate,
+    beltrami_coefficient, beltrami_coefficient_surface, beltrami_coefficient_surfaces,
+    triangle_beltrami, truncate,
 };
 pub use lbs::{LinearBeltramiSolver, generalized_laplacian_weights};

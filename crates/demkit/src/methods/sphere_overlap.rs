@@ -1,0 +1,492 @@
+//! Bijectivity on the sphere: the overlap correction of the SDEM paper (§3.1.3) and a step
+//! that never returns a flipped map.
+//!
+//! The correction works on a patch around the flipped faces (their corners and a few rings of
+//! neighbours): rotate the initial map S₀ and the current map Sₙ so that the patch sits at the
+//! south pole, project both stereographically from the north pole (the patch lands around the
+//! origin, where the projection distorts least, and everything else is the outer region),
+//! compute the Beltrami coefficient μ of the planar map D₀ → Dₙ, truncate it where |μ| ≥ 1
+//! (3.19, δ = 0.1), and rebuild the map with the linear Beltrami solver from D₀ with the outer
+//! region fixed at its place in Dₙ (3.20); then back onto the sphere. Since the outer region is
+//! the rest of the sphere, the correction cannot disturb the map away from the overlaps, and
+//! one pass replaces the paper's north and south passes (whose fixed polar caps exist only
+//! because the paper corrects the whole sphere at once). A patch that does not unfold is grown
+//! and tried again.
+
+use crate::fem::VertexFaces;
+use crate::geometry::sphere::{
+    mat_t_vec, mat_vec, normalize, project_from_north, rotation_to_north, spherical_orientation,
+    unproject_from_north,
+};
+use crate::geometry::{add, dot, scale};
+use crate::qc::{LinearBeltramiSolver, beltrami_coefficient, truncate};
+use rayon::prelude::*;
+
+/// The truncation parameter δ of (3.19).
+const DELTA: f64 = 0.1;
+
+/// The overlap correction for one mesh and one (flip-free) initial map.
+pub(crate) struct OverlapCorrector {
+    faces: Vec<[u32; 3]>,
+    initial: Vec<[f64; 3]>,
+    incidence: VertexFaces,
+}
+
+fn count_flips(map: &[[f64; 3]], faces: &[[u32; 3]]) -> usize {
+    crate::init::spherical_conformal::count_spherical_flips(map, faces)
+}
+
+fn flipped_faces(map: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<usize> {
+    faces
+        .par_iter()
+        .enumerate()
+        .filter(|(_, f)| {
+            !(spherical_orientation(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize])
+                > 0.0)
+        })
+        .map(|(i, _)| i)
+        .collect()
+}
+
+impl OverlapCorrector {
+    pub(crate) fn new(initial: &[[f64; 3]], faces: &[[u32; 3]]) -> Self {
+        Self {
+            faces: faces.to_vec(),
+            initial: initial.to_vec(),
+            incidence: VertexFaces::new(initial.len(), faces),
+        }
+    }
+
+    /// Per-vertex factors shortening every step to at most half the vertex's shortest edge.
+    pub(crate) fn clamp_factors(&self, map: &[[f64; 3]], step: &[[f64; 3]]) -> Vec<f64> {
+        (0..map.len())
+            .into_par_iter()
+            .map(|v| {
+                let mut h = f64::INFINITY;
+                for &f in self.incidence.faces_of(v) {
+                    for &u in &self.faces[f as usize] {
+                        if u as usize != v {
+                            h = h.min(crate::geometry::norm(crate::geometry::sub(
+                                map[u as usize],
+                                map[v],
+                            )));
+                        }
+                    }
+                }
+                let len = crate::geometry::norm(step[v]);
+                if len > 0.5 * h { 0.5 * h / len } else { 1.0 }
+            })
+            .collect()
+    }
+
+    /// Corrects the flipped faces of `map` (module docs); patches of 3, 6 and 12 rings.
+    /// A correction that does not reduce the number of flipped faces is undone.
+    pub(crate) fn correct(&self, map: &mut [[f64; 3]]) {
+        for rings in [3, 6, 12] {
+            let flipped = flipped_faces(map, &self.faces);
+            if flipped.is_empty() {
+                return;
+            }
+            let mut trial = map.to_vec();
+            if self.correct_patch(&mut trial, &flipped, rings)
+                && count_flips(&trial, &self.faces) < flipped.len()
+            {
+                map.copy_from_slice(&trial);
+            }
+        }
+    }
+
+    /// One LBS correction of the patch `rings` rings around the faces `flipped`.
+    fn correct_patch(&self, map: &mut [[f64; 3]], flipped: &[usize], rings: usize) -> bool {
+        let n = map.len();
+        let faces = &self.faces;
+        let mut free = vec![false; n];
+        let mut frontier: Vec<usize> = Vec::new();
+        for &f in flipped {
+            for &v in &faces[f] {
+                if !free[v as usize] {
+                    free[v as usize] = true;
+                    frontier.push(v as usize);
+                }
+            }
+        }
+        for _ in 0..rings {
+            let mut next = Vec::new();
+            for &v in &frontier {
+                for &f in self.incidence.faces_of(v) {
+                    for &u in &faces[f as usize] {
+                        if !free[u as usize] {
+                            free[u as usize] = true;
+                            next.push(u as usize);
+                        }
+                    }
+                }
+            }
+            frontier = next;
+        }
+        // Separate patches are corrected one at a time, each around its own centre.
+        let mut label = vec![usize::MAX; n];
+        let mut components: Vec<Vec<usize>> = Vec::new();
+        for start in 0..n {
+            if !free[start] || label[start] != usize::MAX {
+                continue;
+            }
+            let id = components.len();
+            let mut comp = vec![start];
+            label[start] = id;
+            let mut k = 0;
+            while k < comp.len() {
+                let v = comp[k];
+                k += 1;
+                for &f in self.incidence.faces_of(v) {
+                    for &u in &faces[f as usize] {
+                        let u = u as usize;
+                        if free[u] && label[u] == usize::MAX {
+                            label[u] = id;
+                            comp.push(u);
+                        }
+                    }
+                }
+            }
+            components.push(comp);
+        }
+        let mut changed = false;
+        for comp in &components {
+            changed |= self.correct_component(map, comp, &free);
+        }
+        changed
+    }
+
+    /// LBS correction of one connected patch: `comp` are its free vertices.
+    fn correct_component(&self, map: &mut [[f64; 3]], comp: &[usize], free: &[bool]) -> bool {
+        let faces = &self.faces;
+        // The patch's faces (those touching a free vertex) and their corners, re-indexed.
+        let mut local: std::collections::HashMap<usize, u32> = std::collections::HashMap::new();
+        let mut verts: Vec<usize> = Vec::new();
+        let mut patch: Vec<[u32; 3]> = Vec::new();
+        let mut seen_face = std::collections::HashSet::new();
+        for &v in comp {
+            for &f in self.incidence.faces_of(v) {
+                if !seen_face.insert(f) {
+                    continue;
+                }
+                patch.push(faces[f as usize].map(|u| {
+                    let u = u as usize;
+                    *local.entry(u).or_insert_with(|| {
+                        verts.push(u);
+                        (verts.len() - 1) as u32
+                    })
+                }));
+            }
+        }
+        let fixed: Vec<bool> = verts.iter().map(|&v| !free[v]).collect();
+        if !fixed.iter().any(|&x| x) {
+            return false;
+        }
+        let centre = |m: &[[f64; 3]]| {
+            let mut c = [0.0; 3];
+            for (&v, &fx) in verts.iter().zip(&fixed) {
+                if !fx {
+                    c = add(c, m[v]);
+                }
+            }
+            normalize(scale(c, -1.0))
+        };
+        // Rotations sending the patch's centre to the south pole.
+        let r0 = rotation_to_north(centre(&self.initial));
+        let rn = rotation_to_north(centre(map));
+        let d0: Vec<[f64; 3]> = verts
+            .iter()
+            .map(|&v| mat_vec(&r0, self.initial[v]))
+            .collect();
+        let dn: Vec<[f64; 3]> = verts.iter().map(|&v| mat_vec(&rn, map[v])).collect();
+        // The patch must stay well away from the projection's pole.
+        if d0.iter().chain(&dn).any(|p| p[2] > 0.5) {
+            return false;
+        }
+        let d0: Vec<[f64; 3]> = d0.into_iter().map(project_from_north).collect();
+        let dn: Vec<[f64; 3]> = dn.into_iter().map(project_from_north).collect();
+        let mu: Vec<_> = beltrami_coefficient(&d0, &dn, &patch)
+            .into_iter()
+            .map(|m| truncate(m, DELTA))
+            .collect();
+        let Ok(lbs) = LinearBeltramiSolver::new(verts.len(), &patch, &fixed) else {
+            return false;
+        };
+        let Ok(out) = lbs.solve(&d0, &mu, &dn) else {
+            return false;
+        };
+        if out.iter().any(|p| !p[0].is_finite() || !p[1].is_finite()) {
+            return false;
+        }
+        for (k, &v) in verts.iter().enumerate() {
+            if !fixed[k] {
+                map[v] = mat_t_vec(&rn, unproject_from_north(out[k]));
+            }
+        }
+        true
+    }
+}
+
+/// True when some face of `map` is not counter-clockwise seen from outside.
+pub(crate) fn has_spherical_flip(map: &[[f64; 3]], faces: &[[u32; 3]]) -> bool {
+    faces.par_iter().any(|f| {
+        !(spherical_orientation(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize]) > 0.0)
+    })
+}
+
+/// The first `t ∈ (0, 2]` at which the face with corners `p + t s` has a non-positive
+/// orientation det(a, b, c) (a cubic in t), or +∞; sampled on a grid and refined by bisection.
+fn collapse_time(p: [[f64; 3]; 3], s: [[f64; 3]; 3]) -> f64 {
+    let det = |t: f64| {
+        let q = [0, 1, 2].map(|k| add(p[k], scale(s[k], t)));
+        spherical_orientation(q[0], q[1], q[2])
+    };
+    if !(det(0.0) > 0.0) {
+        return 0.0;
+    }
+    const STEPS: usize = 32;
+    let mut lo = 0.0;
+    for k in 1..=STEPS {
+        let t = 2.0 * k as f64 / STEPS as f64;
+        if !(det(t) > 0.0) {
+            let mut hi = t;
+            for _ in 0..30 {
+                let mid = 0.5 * (lo + hi);
+                if det(mid) > 0.0 {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            return lo;
+        }
+        lo = t;
+    }
+    f64::INFINITY
+}
+
+/// How a step was taken.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct StepOutcome {
+    /// The fraction of the step taken (1 = full step; with local damping, the mean fraction
+    /// over the vertices).
+    pub fraction: f64,
+    /// True when the overlap correction was used.
+    pub corrected: bool,
+}
+
+/// Moves the flip-free spherical map `map` by the tangent `step` (then back onto the sphere)
+/// without ever leaving a flipped face: the step; if faces flip, the overlap correction;
+/// if faces still flip, the step halved and tried again (§3.1.3), down to 1/64. If that fails,
+/// every vertex's step is limited to half its shortest edge (then corrected likewise); if that
+/// fails, the limited step is damped locally: the vertices of every face that would collapse
+/// have their step shortened (a face whose corners all stop cannot flip), so that a face being
+/// crushed does not stop the rest of the map. Last resort: the step scaled uniformly to half
+/// the earliest collapse time of any face. If nothing works the map stays put (fraction 0).
+pub(crate) fn advance(
+    map: &mut Vec<[f64; 3]>,
+    step: &[[f64; 3]],
+    faces: &[[u32; 3]],
+    corrector: &OverlapCorrector,
+) -> StepOutcome {
+    let propose = |scale_of: &(dyn Fn(usize) -> f64 + Sync)| -> Vec<[f64; 3]> {
+        map.par_iter()
+            .zip(step.par_iter())
+            .enumerate()
+            .map(|(i, (&p, &s))| normalize(add(p, scale(s, scale_of(i)))))
+            .collect()
+    };
+    let mut tau = 1.0;
+    for _ in 0..7 {
+        let mut prop = propose(&|_| tau);
+        if !has_spherical_flip(&prop, faces) {
+            *map = prop;
+            return StepOutcome {
+                fraction: tau,
+                corrected: false,
+            };
+        }
+        corrector.correct(&mut prop);
+        if prop.iter().all(|p| p.iter().all(|x| x.is_finite())) {
+            for p in prop.iter_mut() {
+                *p = normalize(*p);
+            }
+            if !has_spherical_flip(&prop, faces) {
+                *map = prop;
+                return StepOutcome {
+                    fraction: tau,
+                    corrected: true,
+                };
+            }
+        }
+        tau *= 0.5;
+    }
+    // A step longer than half the vertex's shortest edge is shortened to that length.
+    let limit = corrector.clamp_factors(map, step);
+    let mut prop = propose(&|i| limit[i]);
+    let mean_limit = limit.iter().sum::<f64>() / limit.len().max(1) as f64;
+    if has_spherical_flip(&prop, faces) {
+        corrector.correct(&mut prop);
+        for p in prop.iter_mut() {
+            *p = normalize(*p);
+        }
+    }
+    if prop.iter().all(|p| p.iter().all(|x| x.is_finite())) && !has_spherical_flip(&prop, faces) {
+        *map = prop;
+        return StepOutcome {
+            fraction: mean_limit,
+            corrected: true,
+        };
+    }
+    // Local damping of the limited step: the rest of the map moves on.
+    let limited: Vec<[f64; 3]> = step
+        .iter()
+        .zip(&limit)
+        .map(|(s, &l)| scale(*s, l))
+        .collect();
+    let damp = local_damping(map, &limited, faces, &corrector.incidence);
+    let prop = propose(&|i| limit[i] * damp[i]);
+    if !has_spherical_flip(&prop, faces) {
+        *map = prop;
+        return StepOutcome {
+            fraction: limit.iter().zip(&damp).map(|(a, b)| a * b).sum::<f64>()
+                / limit.len().max(1) as f64,
+            corrected: false,
+        };
+    }
+    let t_min = faces
+        .par_iter()
+        .map(|f| collapse_time(f.map(|v| map[v as usize]), f.map(|v| step[v as usize])))
+        .reduce(|| f64::INFINITY, f64::min);
+    let tau = (0.5 * t_min).min(1.0);
+    let prop = propose(&|_| tau);
+    if tau > 0.0 && !has_spherical_flip(&prop, faces) {
+        *map = prop;
+        return StepOutcome {
+            fraction: tau,
+            corrected: false,
+        };
+    }
+    StepOutcome {
+        fraction: 0.0,
+        corrected: false,
+    }
+}
+
+/// Per-vertex step factors in [0, 1] such that no face collapses before twice the damped step
+/// (see [`advance`]). After the first round only the faces around damped vertices are
+/// re-examined.
+fn local_damping(
+    map: &[[f64; 3]],
+    step: &[[f64; 3]],
+    faces: &[[u32; 3]],
+    incidence: &VertexFaces,
+) -> Vec<f64> {
+    let mut s = vec![1.0f64; map.len()];
+    let mut candidates: Vec<usize> = (0..faces.len()).collect();
+    let mut mark = vec![false; faces.len()];
+    for round in 0..500 {
+        let hits: Vec<(usize, f64)> = candidates
+            .par_iter()
+            .filter_map(|&i| {
+                let f = &faces[i];
+                let t = collapse_time(
+                    f.map(|v| map[v as usize]),
+                    f.map(|v| scale(step[v as usize], s[v as usize])),
+                );
+                (t < 2.0).then_some((i, t))
+            })
+            .collect();
+        if hits.is_empty() {
+            break;
+        }
+        let mut next = Vec::new();
+        for (i, t) in hits {
+            // The last rounds stop the corners outright: a face whose corners all stay put
+            // cannot collapse, so the loop ends.
+            let k = if round >= 30 { 0.0 } else { 0.5 * t.min(1.0) };
+            for &v in &faces[i] {
+                s[v as usize] *= k;
+                for &g in incidence.faces_of(v as usize) {
+                    if !mark[g as usize] {
+                        mark[g as usize] = true;
+                        next.push(g as usize);
+                    }
+                }
+            }
+        }
+        for &g in &next {
+            mark[g] = false;
+        }
+        candidates = next;
+    }
+    s
+}
+
+/// Projects `v` onto the tangent plane of the unit sphere at `p` (3.13).
+#[inline]
+pub(crate) fn tangential(v: [f64; 3], p: [f64; 3]) -> [f64; 3] {
+    let n = normalize(p);
+    add(v, scale(n, -dot(v, n)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generate::icosphere;
+
+    #[test]
+    fn correction_unfolds_a_local_fold() {
+        let mesh = icosphere(3).unwrap();
+        let faces = &mesh.faces;
+        let corrector = OverlapCorrector::new(&mesh.positions, faces);
+        // Push one vertex just across the far edge of one of its faces: a local fold-over.
+        let mut map = mesh.positions.clone();
+        let v = 100u32;
+        let f = faces.iter().find(|f| f.contains(&v)).unwrap();
+        let others: Vec<usize> = f.iter().filter(|&&u| u != v).map(|&u| u as usize).collect();
+        let mid = scale(add(map[others[0]], map[others[1]]), 0.5);
+        let p = map[v as usize];
+        map[v as usize] = normalize(add(mid, scale(crate::geometry::sub(mid, p), 0.05)));
+        assert!(has_spherical_flip(&map, faces));
+        corrector.correct(&mut map);
+        assert!(!has_spherical_flip(&map, faces));
+    }
+
+    #[test]
+    fn advance_never_flips() {
+        let mesh = icosphere(3).unwrap();
+        let faces = &mesh.faces;
+        let corrector = OverlapCorrector::new(&mesh.positions, faces);
+        let mut map = mesh.positions.clone();
+        // A wild tangent field.
+        let step: Vec<[f64; 3]> = map
+            .iter()
+            .enumerate()
+            .map(|(i, &p)| {
+                let t = i as f64 * 2.399;
+                tangential([0.3 * t.cos(), 0.3 * t.sin(), 0.3 * (3.0 * t).cos()], p)
+            })
+            .collect();
+        let out = advance(&mut map, &step, faces, &corrector);
+        assert!(!has_spherical_flip(&map, faces));
+        assert!(out.fraction > 0.0);
+    }
+
+    #[test]
+    fn collapse_time_of_a_vertex_crossing_the_great_circle() {
+        // Face around the north pole; vertex c moves towards and across edge ab.
+        let p = [
+            normalize([0.1, 0.0, 1.0]),
+            normalize([-0.05, 0.08, 1.0]),
+            normalize([-0.05, -0.08, 1.0]),
+        ];
+        assert!(spherical_orientation(p[0], p[1], p[2]) > 0.0);
+        let s = [[-0.3, 0.0, 0.0], [0.0; 3], [0.0; 3]];
+        let t = collapse_time(p, s);
+        // det is linear here: the corner reaches x = −0.05/1.0-ish plane at t ≈ 0.5.
+        assert!(t > 0.4 && t < 0.6, "t = {t}");
+        assert_eq!(collapse_time(p, [[0.0; 3]; 3]), f64::INFINITY);
+    }
+}
