@@ -9,19 +9,10 @@ use demkit::init::shape::Shape;
 use demkit::methods::{dem, dem_shape};
 use demkit::metrics::{Domain, compute, density_error, map_areas};
 use demkit::population::{PopulationSpec, face_populations};
-use std::path::PathBuf;
-use std::sync::Mutex;
 use std::time::Instant;
 
-fn data(rel: &str) -> PathBuf {
-    let root = std::env::var_os("DEMKIT_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data"));
-    root.join(rel)
-}
-
-/// The timing checks need the machine to themselves: one real mesh at a time.
-static SERIAL: Mutex<()> = Mutex::new(());
+mod common;
+use common::{SERIAL, data};
 
 fn check(rel: &str, max_error: f64, seconds: f64) {
     check_method(rel, None, max_error, seconds);

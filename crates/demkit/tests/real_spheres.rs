@@ -9,19 +9,10 @@ use demkit::io::read_landmarks;
 use demkit::methods::{MapResult, lsdem, sdem};
 use demkit::metrics::{Domain, Metrics, compute};
 use demkit::population::{PopulationSpec, face_populations};
-use std::path::PathBuf;
-use std::sync::Mutex;
 use std::time::Instant;
 
-fn data(rel: &str) -> PathBuf {
-    let root = std::env::var_os("DEMKIT_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data"));
-    root.join(rel)
-}
-
-/// The timing checks need the machine to themselves: one real mesh at a time.
-static SERIAL: Mutex<()> = Mutex::new(());
+mod common;
+use common::{SERIAL, data};
 
 fn load(name: &str, population_file: bool) -> (TriMesh, Vec<f64>) {
     let mesh = demkit::io::read_mesh(&data(&format!("genus0/{name}.obj"))).unwrap();
