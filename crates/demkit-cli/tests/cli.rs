@@ -443,7 +443,8 @@ fn dem_shape_rectangle_and_ellipse() {
     let (input, _) = parse_obj(&s.read("g.obj"));
     let boundary = input.boundary_vertices();
     // (shape, distance-like function that is 1 on the shape's boundary)
-    let shapes: [(&str, fn(f64, f64) -> f64); 2] = [
+    type Level = fn(f64, f64) -> f64;
+    let shapes: [(&str, Level); 2] = [
         ("rectangle:3:2", |x, y| (x.abs() / 1.5).max(y.abs() / 1.0)),
         ("ellipse:2:1", |x, y| (x / 2.0).hypot(y)),
     ];

@@ -149,7 +149,7 @@ mod tests {
             }
         }
         let fixed: Vec<bool> = (0..16)
-            .map(|v| v % 4 == 0 || v % 4 == 3 || v < 4 || v >= 12)
+            .map(|v| v % 4 == 0 || v % 4 == 3 || !(4..12).contains(&v))
             .collect();
         let p = StiffnessPattern::new(16, &faces, Some(&fixed));
         assert_eq!(p.n_unknowns(), 4);

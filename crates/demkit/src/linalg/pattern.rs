@@ -250,10 +250,12 @@ mod tests {
     fn dense(p: &StiffnessPattern, values: &[f64]) -> Vec<Vec<f64>> {
         let n = p.n_unknowns();
         let mut m = vec![vec![0.0; n]; n];
-        for col in 0..n {
-            for k in p.col_ptr()[col]..p.col_ptr()[col + 1] {
-                m[p.row_idx()[k]][col] = values[k];
-                m[col][p.row_idx()[k]] = values[k];
+        let ptr = p.col_ptr();
+        for (col, range) in ptr.windows(2).enumerate() {
+            let rows = &p.row_idx()[range[0]..range[1]];
+            for (&row, &v) in rows.iter().zip(&values[range[0]..range[1]]) {
+                m[row][col] = v;
+                m[col][row] = v;
             }
         }
         m
