@@ -24,11 +24,9 @@ use super::sphere_density::SphereDiffusion;
 use super::sphere_input::{check_sphere_input, initial_sphere_map};
 use super::sphere_overlap::{OverlapCorrector, advance, tangential};
 use super::{MapResult, Progress, ProgressFn, StopReason};
-use crate::fem::{cotangent_weights, lumped_mass};
 use crate::geometry::rotation::optimal_rotation;
 use crate::geometry::sphere::{mat_vec, normalize};
 use crate::geometry::{norm, sub};
-use crate::linalg::{CachedCholesky, StiffnessPattern};
 use crate::{Error, Result, TriMesh};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -147,9 +145,10 @@ pub fn run(
     let diffusion = SphereDiffusion::new(initial.len(), faces, population)?;
     let corrector = OverlapCorrector::new(&initial, faces);
     let targets: Vec<[f64; 3]> = landmarks.iter().map(|l| normalize(l.1)).collect();
-    let pattern = StiffnessPattern::new(initial.len(), faces, None);
-    let cholesky = CachedCholesky::new(&pattern)?;
-    let mut values = vec![0.0; pattern.nnz()];
+    let landmark_penalty: Vec<(usize, f64)> = landmarks
+        .iter()
+        .map(|&(v, _)| (v, config.dt * config.gamma))
+        .collect();
     let mut x = initial.clone();
     let mut history = Vec::new();
     let mut stop_reason = StopReason::MaxIter;
@@ -168,16 +167,13 @@ pub fn run(
         // Semi-implicit step: the density term explicit, the harmonic and landmark terms
         // implicit, f_new = argmin ½|f − f*|²_A + ½δtβ fᵀLf + ½δtγ Σ|f(p_i) − q_i|², i.e.
         // (A + δtβ L + δtγ C) f_new = A f* + δtγ C q with f* = f + δt α ṽ.
-        let mut w = cotangent_weights(&x, faces);
-        w.par_iter_mut()
-            .for_each(|c| *c = c.map(|t| t * config.dt * config.beta));
-        let mut diag = lumped_mass(x.len(), faces, &d.areas);
-        let mass = diag.clone();
-        for &(vtx, _) in landmarks {
-            diag[vtx] += config.dt * config.gamma;
-        }
-        pattern.assemble(&w, &diag, &mut values);
-        let factor = cholesky.factor(&pattern, &values)?;
+        let system = diffusion.operator().factor(
+            &x,
+            &d.areas,
+            config.dt * config.beta,
+            &landmark_penalty,
+        )?;
+        let (factor, mass) = (&system.factor, &system.mass);
         let n = x.len();
         let mut rhs = vec![0.0; 3 * n];
         for i in 0..n {

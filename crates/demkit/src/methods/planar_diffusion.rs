@@ -11,10 +11,10 @@
 use super::disk_input::default_time_step;
 use super::{Progress, StopReason};
 use crate::Result;
-use crate::fem::{VertexFaces, cotangent_weights_into, face_gradient_into, lumped_mass};
+use crate::fem::{DiffusionOperator, VertexFaces, face_gradient_into};
 use crate::geometry::{face_areas, signed_area_2d};
 use crate::init::shape::Shape;
-use crate::linalg::{CachedCholesky, StiffnessPattern};
+use crate::metrics::normalized_variance;
 use rayon::prelude::*;
 
 /// A planar diffusion problem: an (extended) triangulation whose first `n_roi_faces` faces and
@@ -109,10 +109,7 @@ pub(crate) fn run(
     // the density at the ROI boundary must not be blurred by the sea).
     let incidence = VertexFaces::new_filtered(n, faces, |v, f| (v < nv) == (f < nf));
     let incidence_all = VertexFaces::new(n, faces);
-    let pattern = StiffnessPattern::new(n, faces, None);
-    let cholesky = CachedCholesky::new(&pattern)?;
-    let mut values = vec![0.0; pattern.nnz()];
-    let mut weights = Vec::new();
+    let diffusion = DiffusionOperator::new(n, faces)?;
     let mut grad_f = Vec::new();
     let total_population: f64 = problem.population[..nf].iter().sum();
 
@@ -125,11 +122,7 @@ pub(crate) fn run(
             .map(|(p, a)| p / a)
             .collect();
         let rho_v = incidence.average(&rho_f);
-        // sd of ρ/mean rather than sd(ρ)/mean: squares of tiny densities would underflow.
-        let roi = &rho_v[..nv];
-        let mean = roi.iter().sum::<f64>() / nv as f64;
-        let sd_over_mean =
-            (roi.iter().map(|x| (x / mean - 1.0).powi(2)).sum::<f64>() / nv as f64).sqrt();
+        let sd_over_mean = normalized_variance(&rho_v[..nv]).sqrt();
         let roi_area: f64 = areas[..nf].iter().sum();
         let error = problem.population[..nf]
             .iter()
@@ -174,21 +167,9 @@ pub(crate) fn run(
             .min(SMOOTHING_AREA * roi_area);
 
         // Diffusion (4.34): (A + T L) ρ̃ = A ρ.
-        cotangent_weights_into(&r, faces, &mut weights);
-        for w in weights.iter_mut() {
-            *w = w.map(|c| c * smoothing_time);
-        }
-        let mass = lumped_mass(n, faces, &m.areas);
-        pattern.assemble(&weights, &mass, &mut values);
-        let factor = cholesky.factor(&pattern, &values)?;
-        let mut rho: Vec<f64> = mass.iter().zip(&m.rho_v).map(|(a, p)| a * p).collect();
-        factor.solve_in_place(&mut rho);
-        let floor = m.rho_v.iter().cloned().fold(f64::INFINITY, f64::min) * 1e-3;
-        for x in rho.iter_mut() {
-            if !(*x > floor) {
-                *x = floor;
-            }
-        }
+        let step_operator = diffusion.factor(&r, &m.areas, smoothing_time, &[])?;
+        let rho = step_operator.diffuse(&m.rho_v);
+        let mass = &step_operator.mass;
 
         // Velocity −∇ρ̃/ρ̃ by (4.37) and W^FV (3.4), smoothed with the same factor.
         face_gradient_into(&r, faces, &rho, &mut grad_f);
@@ -198,7 +179,7 @@ pub(crate) fn run(
             velocity[i] = -mass[i] * g[0] / p;
             velocity[n + i] = -mass[i] * g[1] / p;
         }
-        factor.solve_many_in_place(&mut velocity, 2);
+        step_operator.factor.solve_many_in_place(&mut velocity, 2);
         let step: Vec<[f64; 2]> = (0..n)
             .map(|i| [dt * velocity[i], dt * velocity[n + i]])
             .collect();

@@ -4,9 +4,9 @@
 
 use super::sphere_overlap::tangential;
 use crate::Result;
-use crate::fem::{VertexFaces, cotangent_weights, face_gradient, lumped_mass};
+use crate::fem::{DiffusionOperator, VertexFaces, face_gradient};
 use crate::geometry::face_areas;
-use crate::linalg::{CachedCholesky, StiffnessPattern};
+use crate::metrics::normalized_variance;
 use rayon::prelude::*;
 
 /// The recoupled density of a map (3.22) and the quantities measured on it.
@@ -24,20 +24,16 @@ pub(crate) struct SphereDiffusion<'a> {
     faces: &'a [[u32; 3]],
     population: &'a [f64],
     incidence: VertexFaces,
-    pattern: StiffnessPattern,
-    cholesky: CachedCholesky,
+    operator: DiffusionOperator,
 }
 
 impl<'a> SphereDiffusion<'a> {
     pub(crate) fn new(n: usize, faces: &'a [[u32; 3]], population: &'a [f64]) -> Result<Self> {
-        let pattern = StiffnessPattern::new(n, faces, None);
-        let cholesky = CachedCholesky::new(&pattern)?;
         Ok(Self {
             faces,
             population,
             incidence: VertexFaces::new(n, faces),
-            pattern,
-            cholesky,
+            operator: DiffusionOperator::new(n, faces)?,
         })
     }
 
@@ -51,10 +47,7 @@ impl<'a> SphereDiffusion<'a> {
             .map(|(p, a)| p / a)
             .collect();
         let rho_v = self.incidence.apply(&areas, &rho_f);
-        let n = rho_v.len() as f64;
-        let mean = rho_v.iter().sum::<f64>() / n;
-        // sd of ρ/mean rather than sd(ρ)/mean: squares of tiny densities would underflow.
-        let sd_over_mean = (rho_v.iter().map(|x| (x / mean - 1.0).powi(2)).sum::<f64>() / n).sqrt();
+        let sd_over_mean = normalized_variance(&rho_v).sqrt();
         Density {
             areas,
             rho_v,
@@ -85,24 +78,16 @@ impl<'a> SphereDiffusion<'a> {
             .collect())
     }
 
-    /// One backward-Euler diffusion step (3.9): `(A + δt L) ρ = A ρ_V`, floored at a thousandth
-    /// of the smallest initial value.
+    /// One backward-Euler diffusion step (3.9), `(A + δt L) ρ = A ρ_V` ([`DiffusionOperator`]).
     fn diffuse(&self, map: &[[f64; 3]], d: &Density, dt: f64) -> Result<Vec<f64>> {
-        let n = map.len();
-        let mut w = cotangent_weights(map, self.faces);
-        w.par_iter_mut().for_each(|x| *x = x.map(|c| c * dt));
-        let mass = lumped_mass(n, self.faces, &d.areas);
-        let mut values = vec![0.0; self.pattern.nnz()];
-        self.pattern.assemble(&w, &mass, &mut values);
-        let factor = self.cholesky.factor(&self.pattern, &values)?;
-        let mut rho: Vec<f64> = mass.iter().zip(&d.rho_v).map(|(a, p)| a * p).collect();
-        factor.solve_in_place(&mut rho);
-        let floor = d.rho_v.iter().cloned().fold(f64::INFINITY, f64::min) * 1e-3;
-        for x in rho.iter_mut() {
-            if !(*x > floor) {
-                *x = floor;
-            }
-        }
-        Ok(rho)
+        Ok(self
+            .operator
+            .factor(map, &d.areas, dt, &[])?
+            .diffuse(&d.rho_v))
+    }
+
+    /// The diffusion operator of this mesh, for other systems on the same connectivity.
+    pub(crate) fn operator(&self) -> &DiffusionOperator {
+        &self.operator
     }
 }
