@@ -113,6 +113,12 @@ pub struct MapArgs {
     /// Energy weight γ (lsdem).
     #[arg(long)]
     pub gamma: Option<f64>,
+    /// Penalty η of the landmark splitting (ldeq).
+    #[arg(long)]
+    pub eta: Option<f64>,
+    /// Keep the holes' centres and radii (deq, ldeq): the shape-preserving variant.
+    #[arg(long)]
+    pub no_geometry_update: bool,
     /// Time step (default: the method's own choice).
     #[arg(long)]
     pub dt: Option<f64>,
@@ -185,6 +191,19 @@ pub enum GenerateKind {
         /// A circular hole CX:CY:R; repeat the option for several holes.
         #[arg(long = "hole", value_name = "CX:CY:R", allow_hyphen_values = true)]
         holes: Vec<String>,
+        #[arg(long, default_value_t = 40)]
+        resolution: usize,
+    },
+    /// The rectangle [-W/2,W/2]×[-H/2,H/2] minus circular holes, each given as cx:cy:r.
+    RectHoles {
+        #[arg(long, default_value_t = 2.0)]
+        width: f64,
+        #[arg(long, default_value_t = 1.0)]
+        height: f64,
+        /// A circular hole CX:CY:R; repeat the option for several holes.
+        #[arg(long = "hole", value_name = "CX:CY:R", allow_hyphen_values = true)]
+        holes: Vec<String>,
+        /// Boundary points along the longer side.
         #[arg(long, default_value_t = 40)]
         resolution: usize,
     },

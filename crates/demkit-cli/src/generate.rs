@@ -34,6 +34,18 @@ pub fn run(a: &GenerateArgs) -> Result<u8, Failure> {
                 .collect::<Result<Vec<_>, _>>()?;
             g::disk_with_holes(&parsed, *resolution)?
         }
+        GenerateKind::RectHoles {
+            width,
+            height,
+            holes,
+            resolution,
+        } => {
+            let parsed = holes
+                .iter()
+                .map(|h| parse_hole(h))
+                .collect::<Result<Vec<_>, _>>()?;
+            g::rectangle_with_holes(*width, *height, &parsed, *resolution)?
+        }
         GenerateKind::Icosphere { subdivisions } => g::icosphere(*subdivisions)?,
         GenerateKind::UvSphere { lat, lon } => g::uv_sphere(*lat, *lon)?,
         GenerateKind::Torus {

@@ -7,7 +7,9 @@ use crate::report::{InputSummary, Report};
 use demkit::TriMesh;
 use demkit::init::shape::Shape;
 use demkit::mesh::topology::topology;
-use demkit::methods::{dem, dem_shape, lsdem, sdem, spherical_conformal};
+use demkit::methods::{
+    circle_conformal, dem, dem_shape, deq, ldeq, lsdem, sdem, spherical_conformal,
+};
 use demkit::metrics::{Domain, compute};
 use demkit::population::{PopulationSpec, face_populations};
 use std::path::Path;
@@ -48,7 +50,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         Some(path)
             if matches!(
                 method,
-                Method::Lsdem | Method::Sdem | Method::SphericalConformal
+                Method::Lsdem | Method::Sdem | Method::SphericalConformal | Method::Ldeq
             ) =>
         {
             let l = demkit::io::landmarks::read_landmarks(path, mesh.n_vertices())?;
@@ -59,6 +61,11 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     if method == Method::Lsdem && landmarks.is_none() {
         return Err(Failure::input(
             "--method lsdem needs --landmarks FILE (vertex_index x y z per line)",
+        ));
+    }
+    if method == Method::Ldeq && landmarks.is_none() {
+        return Err(Failure::input(
+            "--method ldeq needs --landmarks FILE (vertex_index x y per line)",
         ));
     }
 
@@ -90,6 +97,17 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             sdem::run(&mesh, &population, &c, &mut progress)
         }
         Method::SphericalConformal => spherical_conformal::run(&mesh, &population),
+        Method::CircleConformal => circle_conformal::run(&mesh, &population),
+        Method::Deq => deq::run(&mesh, &population, &deq_config(a), &mut progress),
+        Method::Ldeq => {
+            let mut c = ldeq::Config {
+                deq: deq_config(a),
+                ..Default::default()
+            };
+            c.eta = a.eta.unwrap_or(c.eta);
+            let l = landmarks.as_deref().unwrap_or(&[]);
+            ldeq::run(&mesh, &population, l, &c, &mut progress)
+        }
         Method::Lsdem => {
             let mut c = lsdem::Config::default();
             let mut dt = Some(c.dt);
@@ -161,6 +179,18 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     Ok(if result.converged { 0 } else { 3 })
 }
 
+/// DEQ's parameters from the command line (paper defaults otherwise).
+fn deq_config(a: &MapArgs) -> deq::Config {
+    let mut c = deq::Config::default();
+    let mut dt = Some(c.dt);
+    apply_common(&mut c.epsilon, &mut c.max_iter, &mut dt, a);
+    c.dt = dt.unwrap_or(c.dt);
+    c.alpha = a.alpha.unwrap_or(c.alpha);
+    c.beta = a.beta.unwrap_or(c.beta);
+    c.geometry_update = !a.no_geometry_update;
+    c
+}
+
 fn apply_common(epsilon: &mut f64, max_iter: &mut usize, dt: &mut Option<f64>, a: &MapArgs) {
     if let Some(e) = a.epsilon {
         *epsilon = e;
@@ -226,12 +256,26 @@ fn warn_unused(a: &MapArgs, m: Method) {
     let unused: Vec<&str> = [
         (
             a.landmarks.is_some()
-                && !matches!(m, Method::Lsdem | Method::Sdem | Method::SphericalConformal),
+                && !matches!(
+                    m,
+                    Method::Lsdem | Method::Sdem | Method::SphericalConformal | Method::Ldeq
+                ),
             "--landmarks",
         ),
         (a.torus.is_some(), "--torus"),
-        (a.alpha.is_some() && m != Method::Lsdem, "--alpha"),
-        (a.beta.is_some() && m != Method::Lsdem, "--beta"),
+        (
+            a.alpha.is_some() && !matches!(m, Method::Lsdem | Method::Deq | Method::Ldeq),
+            "--alpha",
+        ),
+        (
+            a.beta.is_some() && !matches!(m, Method::Lsdem | Method::Deq | Method::Ldeq),
+            "--beta",
+        ),
+        (a.eta.is_some() && m != Method::Ldeq, "--eta"),
+        (
+            a.no_geometry_update && !matches!(m, Method::Deq | Method::Ldeq),
+            "--no-geometry-update",
+        ),
         (a.gamma.is_some() && m != Method::Lsdem, "--gamma"),
         (a.shape.is_some() && m != Method::DemShape, "--shape"),
     ]
@@ -247,6 +291,9 @@ fn warn_unused(a: &MapArgs, m: Method) {
                 | Method::Sdem
                 | Method::Lsdem
                 | Method::SphericalConformal
+                | Method::Deq
+                | Method::Ldeq
+                | Method::CircleConformal
         )
     {
         eprintln!(

@@ -13,6 +13,7 @@
 //! | [`regular_polygon`]`(s, k)` | disk | 1 + s·k(k+1)/2 | s·k² |
 //! | [`annulus`]`(r, R, nr, na)` | annulus | (nr+1)·na | 2·nr·na |
 //! | [`disk_with_holes`]`(holes, n)` | disk minus k holes | depends on the Delaunay mesh | |
+//! | [`rectangle_with_holes`]`(w, h, holes, n)` | rectangle minus k holes | depends on the Delaunay mesh | |
 //! | [`icosphere`]`(s)` | sphere | 10·4^s + 2 | 20·4^s |
 //! | [`uv_sphere`]`(nl, nm)` | sphere | 2 + (nl−1)·nm | 2·nm·(nl−1) |
 //! | [`torus`]`(R, r, nu, nv)` | torus | nu·nv | 2·nu·nv |
@@ -26,7 +27,7 @@ pub use grid::{
     GAUSSIAN_PAPER_N, PEAKS_PAPER_N, gaussian, gaussian_function, height_field, peaks,
     peaks_function, square_grid,
 };
-pub use planar::{annulus, disk_with_holes, regular_polygon};
+pub use planar::{annulus, disk_with_holes, rectangle_with_holes, regular_polygon};
 
 use crate::{Error, Result};
 

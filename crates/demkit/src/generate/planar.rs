@@ -139,9 +139,95 @@ pub fn annulus(inner_r: f64, outer_r: f64, n_radial: usize, n_angular: usize) ->
 /// cos(π/resolution) of the origin); two holes that overlap or touch.
 pub fn disk_with_holes(holes: &[(f64, f64, f64)], resolution: usize) -> Result<TriMesh> {
     at_least("resolution", resolution, 8)?;
-    let n = resolution;
-    let h = TAU / n as f64;
-    let inradius = (PI / n as f64).cos();
+    holed_domain(Outer::Disk, holes, resolution)
+}
+
+/// The rectangle [−W/2, W/2] × [−H/2, H/2] minus circular holes `(cx, cy, r)` (z = 0), built
+/// like [`disk_with_holes`]: the rectangle's sides split evenly with spacing about
+/// h = max(W, H)/`resolution` (corners included), holes as m-gons with m = max(8, ⌈2πr/h⌉),
+/// lattice points of spacing h at least h/2 from every boundary, constrained Delaunay.
+///
+/// Errors: `resolution` < 4; W or H not positive and finite; hole errors as for
+/// [`disk_with_holes`] (a hole must lie strictly inside the rectangle).
+pub fn rectangle_with_holes(
+    width: f64,
+    height: f64,
+    holes: &[(f64, f64, f64)],
+    resolution: usize,
+) -> Result<TriMesh> {
+    at_least("resolution", resolution, 4)?;
+    positive("the width", width)?;
+    positive("the height", height)?;
+    holed_domain(Outer::Rectangle(width, height), holes, resolution)
+}
+
+/// The outer boundary of a holed planar domain.
+#[derive(Clone, Copy)]
+enum Outer {
+    /// The unit disk (a regular polygon of `resolution` sides).
+    Disk,
+    /// A centred W × H rectangle.
+    Rectangle(f64, f64),
+}
+
+impl Outer {
+    /// The boundary's vertices (counter-clockwise) and the lattice spacing.
+    fn boundary(self, resolution: usize) -> (Vec<[f64; 2]>, f64) {
+        match self {
+            Outer::Disk => {
+                let n = resolution;
+                let pts = (0..n)
+                    .map(|j| {
+                        let a = TAU * j as f64 / n as f64;
+                        [a.cos(), a.sin()]
+                    })
+                    .collect();
+                (pts, TAU / n as f64)
+            }
+            Outer::Rectangle(w, h) => {
+                let step = w.max(h) / resolution as f64;
+                let (nx, ny) = (
+                    ((w / step).round() as usize).max(1),
+                    ((h / step).round() as usize).max(1),
+                );
+                let (x0, y0) = (-w / 2.0, -h / 2.0);
+                let mut pts = Vec::with_capacity(2 * (nx + ny));
+                for i in 0..nx {
+                    pts.push([x0 + w * i as f64 / nx as f64, y0]);
+                }
+                for j in 0..ny {
+                    pts.push([-x0, y0 + h * j as f64 / ny as f64]);
+                }
+                for i in 0..nx {
+                    pts.push([-x0 - w * i as f64 / nx as f64, -y0]);
+                }
+                for j in 0..ny {
+                    pts.push([x0, -y0 - h * j as f64 / ny as f64]);
+                }
+                (pts, step)
+            }
+        }
+    }
+
+    /// Signed distance from `p` to the boundary, positive inside.
+    fn depth(self, p: [f64; 2], resolution: usize) -> f64 {
+        match self {
+            Outer::Disk => (PI / resolution as f64).cos() - p[0].hypot(p[1]),
+            Outer::Rectangle(w, h) => (w / 2.0 - p[0].abs()).min(h / 2.0 - p[1].abs()),
+        }
+    }
+
+    /// How far the boundary reaches from the origin (lattice extent).
+    fn reach(self) -> f64 {
+        match self {
+            Outer::Disk => 1.0,
+            Outer::Rectangle(w, h) => 0.5 * w.hypot(h),
+        }
+    }
+}
+
+fn holed_domain(outer: Outer, holes: &[(f64, f64, f64)], resolution: usize) -> Result<TriMesh> {
+    let (outer_points, h) = outer.boundary(resolution);
     for (k, &(cx, cy, r)) in holes.iter().enumerate() {
         positive(&format!("the radius of hole {k}"), r)?;
         if !(cx.is_finite() && cy.is_finite()) {
@@ -149,16 +235,17 @@ pub fn disk_with_holes(holes: &[(f64, f64, f64)], resolution: usize) -> Result<T
                 "the centre of hole {k} must be finite, got ({cx}, {cy})"
             )));
         }
-        let reach = cx.hypot(cy) + r;
-        if reach >= 1.0 {
-            return Err(Error::Argument(format!(
-                "hole {k} (centre ({cx}, {cy}), radius {r}) is not inside the unit disk"
-            )));
+        if let Outer::Disk = outer {
+            if cx.hypot(cy) + r >= 1.0 {
+                return Err(Error::Argument(format!(
+                    "hole {k} (centre ({cx}, {cy}), radius {r}) is not inside the unit disk"
+                )));
+            }
         }
-        if reach >= inradius {
+        if outer.depth([cx, cy], resolution) <= r {
             return Err(Error::Argument(format!(
-                "hole {k} (centre ({cx}, {cy}), radius {r}) reaches past the outer polygon at \
-                 resolution {n}; increase the resolution"
+                "hole {k} (centre ({cx}, {cy}), radius {r}) reaches past the outer boundary at \
+                 resolution {resolution}; increase the resolution or move the hole inwards"
             )));
         }
         for (l, &(dx, dy, s)) in holes.iter().enumerate().take(k) {
@@ -168,31 +255,31 @@ pub fn disk_with_holes(holes: &[(f64, f64, f64)], resolution: usize) -> Result<T
         }
     }
 
-    // Boundary loops: (first vertex, vertex count); loop 0 is the outer circle.
-    let mut points: Vec<Point2<f64>> = Vec::new();
-    let mut loops = Vec::with_capacity(1 + holes.len());
-    let mut push_circle = |points: &mut Vec<Point2<f64>>, cx: f64, cy: f64, r: f64, m: usize| {
+    // Boundary loops: (first vertex, vertex count); loop 0 is the outer boundary.
+    let mut points: Vec<Point2<f64>> = outer_points
+        .iter()
+        .map(|p| Point2::new(p[0], p[1]))
+        .collect();
+    let mut loops = vec![(0, points.len())];
+    for &(cx, cy, r) in holes {
+        let m = ((TAU * r / h).ceil() as usize).max(8);
         loops.push((points.len(), m));
         for j in 0..m {
             let a = TAU * j as f64 / m as f64;
             points.push(Point2::new(cx + r * a.cos(), cy + r * a.sin()));
         }
-    };
-    push_circle(&mut points, 0.0, 0.0, 1.0, n);
-    for &(cx, cy, r) in holes {
-        let m = ((r * n as f64).ceil() as usize).max(8);
-        push_circle(&mut points, cx, cy, r, m);
     }
     let n_boundary = points.len();
 
     let margin = 0.5 * h;
     let row = h * 3f64.sqrt() / 2.0;
-    let (rows, cols) = ((1.0 / row).ceil() as i64, (1.0 / h).ceil() as i64 + 1);
+    let reach = outer.reach();
+    let (rows, cols) = ((reach / row).ceil() as i64, (reach / h).ceil() as i64 + 1);
     for k in -rows..=rows {
         let shift = if k.rem_euclid(2) == 1 { 0.5 * h } else { 0.0 };
         for i in -cols..=cols {
             let (x, y) = (i as f64 * h + shift, k as f64 * row);
-            let inside = x.hypot(y) <= 1.0 - margin
+            let inside = outer.depth([x, y], resolution) >= margin
                 && holes
                     .iter()
                     .all(|&(cx, cy, r)| (x - cx).hypot(y - cy) >= r + margin);
@@ -213,10 +300,10 @@ pub fn disk_with_holes(holes: &[(f64, f64, f64)], resolution: usize) -> Result<T
         edges,
         |_| conflicts += 1,
     )
-    .map_err(|e| Error::Argument(format!("cannot triangulate the disk with holes: {e}")))?;
+    .map_err(|e| Error::Argument(format!("cannot triangulate the domain with holes: {e}")))?;
     if conflicts > 0 || cdt.num_vertices() != points.len() {
         return Err(Error::Argument(
-            "cannot triangulate the disk with holes: boundary vertices coincide or cross; \
+            "cannot triangulate the domain with holes: boundary vertices coincide or cross; \
              increase the resolution or separate the holes"
                 .into(),
         ));

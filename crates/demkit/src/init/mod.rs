@@ -3,6 +3,7 @@
 //! the spherical conformal map of a genus-0 closed surface with its Möbius area correction.
 
 pub mod boundary_flattening;
+pub mod circle_domain;
 pub mod mobius;
 pub mod sea;
 pub mod shape;

@@ -3,6 +3,12 @@
 
 pub mod dem;
 pub mod dem_shape;
+pub mod deq;
+pub mod ldeq;
+mod beltrami_descent;
+pub mod circle_conformal;
+mod circle_flow;
+mod geometry_modification;
 mod disk_input;
 pub mod lsdem;
 mod planar_diffusion;

@@ -1,11 +1,11 @@
 //! Quasi-conformal tools: the Beltrami coefficient of a piecewise-linear map, its truncation
-//! (SDEM paper (3.19)), and the linear Beltrami solver LBS (DEQ paper §3.2, (3.6)–(3.11)).
+//! (SDEM paper (3.19)) and cut-off (DEQ paper (5.43)), and the linear Beltrami solver LBS (DEQ paper §3.2, (3.6)–(3.11)).
 
 mod beltrami;
 mod lbs;
 
 pub use beltrami::{
     beltrami_coefficient, beltrami_coefficient_surface, beltrami_coefficient_surfaces,
-    triangle_beltrami, truncate,
+    cut_off, triangle_beltrami, triangle_beltrami_derivatives, truncate,
 };
 pub use lbs::{LinearBeltramiSolver, generalized_laplacian_weights};
