@@ -181,6 +181,35 @@ fn closed_mesh_is_refused_by_dem_shape() {
 }
 
 #[test]
+fn closed_mesh_is_refused_by_deq_and_ldeq() {
+    let s = Scratch::new("closeddeq");
+    s.generate(&["icosphere", "--subdivisions", "1", "--out", "s.obj"]);
+    map(&s, "s.obj", &["--method", "deq"]).input_error_naming(&["deq", "closed"]);
+    map(&s, "s.obj", &["--method", "circle-conformal"])
+        .input_error_naming(&["circle-conformal", "closed"]);
+    s.write("l.txt", "3 0.1 0.2\n");
+    map(&s, "s.obj", &["--method", "ldeq", "--landmarks", "l.txt"])
+        .input_error_naming(&["ldeq", "closed"]);
+}
+
+#[test]
+fn ldeq_landmarks_are_checked() {
+    let s = Scratch::new("ldeqlm");
+    s.generate(&["annulus", "--radial", "4", "--angular", "24", "--out", "a.obj"]);
+    map(&s, "a.obj", &["--method", "ldeq"]).input_error_naming(&["ldeq", "--landmarks"]);
+    // Vertex 0 lies on the inner circle.
+    s.write("b.txt", "0 0.5 0\n");
+    map(&s, "a.obj", &["--method", "ldeq", "--landmarks", "b.txt"])
+        .input_error_naming(&["vertex 0", "boundary"]);
+    s.write("f.txt", "30 1.5 0\n");
+    map(&s, "a.obj", &["--method", "ldeq", "--landmarks", "f.txt"])
+        .input_error_naming(&["vertex 30", "unit disk"]);
+    s.write("r.txt", "99999 0.1 0\n");
+    map(&s, "a.obj", &["--method", "ldeq", "--landmarks", "r.txt"])
+        .input_error_naming(&["99999", "out of range"]);
+}
+
+#[test]
 fn auto_on_a_closed_torus_names_the_needed_method() {
     let s = Scratch::new("autotorus");
     s.generate(&["torus", "--major", "12", "--minor", "8", "--out", "t.obj"]);
@@ -567,7 +596,7 @@ fn info_json_of_peaks() {
 fn generate_every_kind() {
     let s = Scratch::new("generate");
     // (arguments, boundaries, genus)
-    let kinds: [(&[&str], u64, i64); 9] = [
+    let kinds: [(&[&str], u64, i64); 10] = [
         (
             &[
                 "grid", "--nx", "10", "--ny", "10", "--width", "10", "--height", "10",
@@ -585,6 +614,19 @@ fn generate_every_kind() {
         (
             &["disk-holes", "--hole", "0.3:0:0.2", "--resolution", "16"],
             2,
+            0,
+        ),
+        (
+            &[
+                "rect-holes",
+                "--hole",
+                "-0.5:0:0.2",
+                "--hole",
+                "0.5:0:0.2",
+                "--resolution",
+                "20",
+            ],
+            3,
             0,
         ),
     ];
