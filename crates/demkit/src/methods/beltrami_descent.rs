@@ -4,7 +4,7 @@
 //! the boundary circles.
 
 use super::circle_flow::CircleBoundary;
-use crate::fem::{DiffusionFactor, VertexFaces};
+use crate::fem::VertexFaces;
 use crate::geometry::signed_area_2d;
 use crate::qc::cut_off;
 use num_complex::Complex64;
@@ -16,14 +16,17 @@ pub(crate) const CUT_OFF_DELTA: f64 = 0.1;
 ///
 /// The α term's descent direction is `−ν` ((5.31), (5.39)). The β term's is `Δν`
 /// ((5.32), (5.40)) with vertex values the plain averages of the face values around each
-/// vertex (as under (5.23)); it is taken implicitly, `(A + δt β L) ν̄ = A ν` on D⁰, because the
-/// explicit step `ν + δt β Δν` is unstable as soon as `δt β` exceeds a fraction of the squared
-/// edge length (δt β = 0.005 against edges of 0.01–0.02 on the unit disk). Only the change
-/// `ν̄ − ν` at the vertices is carried back to the faces (the mean of the three corners), so
-/// β = 0 leaves ν untouched.
+/// vertex (as under (5.23)). We take Δν as the gradient of the discrete energy (5.32) with
+/// respect to the vertex values, `−L ν` with L the cotangent stiffness matrix of D⁰ (no
+/// division by the vertex areas): with the division, the explicit step `ν + δt β Δν` is unstable
+/// as soon as `δt β` exceeds a fraction of the squared edge length (δt β = 0.005 against
+/// squared edges of 10⁻⁴ on the unit disk); without it the step is a light local averaging,
+/// stable for `δt β · max_i L_ii < 1` (the step is capped there). The change of the vertex
+/// values is carried back to the faces as the mean of the three corners, so β = 0 leaves ν
+/// untouched.
 pub(crate) struct Relaxation<'a> {
-    /// The factor of `A + t β L` on D⁰ (t = δt for DEQ).
-    pub smoothing: Option<DiffusionFactor<'a>>,
+    /// Cotangent weights of D⁰ per face corner (`½ cot θ_c`).
+    pub weights: &'a [[f64; 3]],
     /// Face incidence for the vertex averages.
     pub incidence: &'a VertexFaces,
     /// Faces.
@@ -31,47 +34,50 @@ pub(crate) struct Relaxation<'a> {
 }
 
 impl Relaxation<'_> {
-    /// `ν̃ = ν_pred − decay · ν₀` (DEQ: decay = h α), then smoothed by the β term, then cut
-    /// off by (5.43). A step `h = fraction × δt` smooths proportionally less: the smoothing
-    /// increment is scaled by `fraction`, its first-order value for the shorter time.
+    /// `ν̃ = ν_pred − decay · ν₀` (DEQ: decay = h α), plus the β step `−smoothing · L ν̃` at
+    /// the vertices (DEQ: smoothing = h β), then cut off by (5.43).
     pub fn apply(
         &self,
         predicted: &[Complex64],
         nu0: &[Complex64],
         decay: f64,
-        fraction: f64,
+        smoothing: f64,
     ) -> Vec<Complex64> {
+        let zero = Complex64::new(0.0, 0.0);
         let mut nu: Vec<Complex64> = predicted
             .iter()
             .zip(nu0)
             .map(|(p, n)| if p.is_finite() { p - n * decay } else { *p })
             .collect();
-        if let Some(s) = &self.smoothing {
+        if smoothing > 0.0 {
             let finite: Vec<Complex64> = nu
                 .iter()
-                .map(|z| if z.is_finite() { *z } else { Complex64::new(0.0, 0.0) })
+                .map(|z| if z.is_finite() { *z } else { zero })
                 .collect();
             let re: Vec<f64> = finite.iter().map(|z| z.re).collect();
             let im: Vec<f64> = finite.iter().map(|z| z.im).collect();
             let (vre, vim) = (self.incidence.average(&re), self.incidence.average(&im));
-            let smooth = |v: &[f64]| {
-                let mut b: Vec<f64> = v.iter().zip(&s.mass).map(|(x, m)| x * m).collect();
-                s.factor.solve_in_place(&mut b);
-                b
-            };
-            let (sre, sim) = (smooth(&vre), smooth(&vim));
+            let n = vre.len();
+            let mut lap = vec![zero; n];
+            let mut diag = vec![0.0f64; n];
+            for (f, w) in self.faces.iter().zip(self.weights) {
+                for c in 0..3 {
+                    let (a, b) = (f[(c + 1) % 3] as usize, f[(c + 2) % 3] as usize);
+                    let d = Complex64::new(vre[a] - vre[b], vim[a] - vim[b]) * w[c];
+                    lap[a] += d;
+                    lap[b] -= d;
+                    diag[a] += w[c].abs();
+                    diag[b] += w[c].abs();
+                }
+            }
+            let max_diag = diag.iter().cloned().fold(0.0, f64::max);
+            let s = if max_diag > 0.0 { smoothing.min(0.5 / max_diag) } else { 0.0 };
             for (z, f) in nu.iter_mut().zip(self.faces) {
                 if !z.is_finite() {
                     continue;
                 }
-                let d: Complex64 = f
-                    .iter()
-                    .map(|&v| {
-                        let v = v as usize;
-                        Complex64::new(sre[v] - vre[v], sim[v] - vim[v])
-                    })
-                    .sum();
-                *z += d * (fraction / 3.0);
+                let d: Complex64 = f.iter().map(|&v| lap[v as usize]).sum();
+                *z -= d * (s / 3.0);
             }
         }
         nu.into_iter().map(|z| cut_off(z, CUT_OFF_DELTA)).collect()
@@ -90,28 +96,49 @@ pub(crate) fn count_flips(x: &[[f64; 3]], faces: &[[u32; 3]]) -> usize {
 }
 
 /// Moves boundary vertices along their circles by the tangential part of `dt · velocity`
-/// (the Neumann condition of §5.1.3: the boundary shapes stay, the vertices slide), each by at
-/// most `SLIDE_LIMIT` of its shorter boundary edge so that no vertex overtakes a neighbour,
-/// then projects them onto the circle.
+/// (the Neumann condition of §5.1.3: the boundary shapes stay, the vertices slide), then
+/// projects them onto the circle. The slides of a loop are scaled down together, when needed,
+/// so that no boundary edge shrinks to less than half its length: no vertex overtakes a
+/// neighbour, while a loop turning as a whole keeps pace with the interior next to it.
 pub(crate) fn slide_boundary(
     x: &mut [[f64; 3]],
     velocity: &[[f64; 2]],
     dt: f64,
     boundary: &CircleBoundary,
 ) {
-    const SLIDE_LIMIT: f64 = 0.4;
     for (lp, circle) in boundary.loops.iter().zip(&boundary.circles) {
         let n = lp.len();
-        let moves: Vec<[f64; 3]> = (0..n)
-            .map(|i| {
-                let v = lp[i] as usize;
-                let p = x[v];
-                let prev = x[lp[(i + n - 1) % n] as usize];
-                let next = x[lp[(i + 1) % n] as usize];
-                let dist = |a: [f64; 3]| (a[0] - p[0]).hypot(a[1] - p[1]);
-                let limit = SLIDE_LIMIT * dist(prev).min(dist(next));
+        let slide: Vec<f64> = lp
+            .iter()
+            .map(|&v| {
+                let t = circle.tangent(x[v as usize]);
+                dt * (velocity[v as usize][0] * t[0] + velocity[v as usize][1] * t[1])
+            })
+            .collect();
+        // Arc gaps along the loop's direction of travel (the loop may run either way round).
+        let angle = |v: u32| {
+            let p = x[v as usize];
+            (p[1] - circle.center[1]).atan2(p[0] - circle.center[0])
+        };
+        let mut scale = 1.0f64;
+        for i in 0..n {
+            let j = (i + 1) % n;
+            let mut gap = angle(lp[j]) - angle(lp[i]);
+            gap -= std::f64::consts::TAU * (gap / std::f64::consts::TAU).round();
+            let arc = gap * circle.radius;
+            // The signed change of the gap, in the same orientation as `arc`.
+            let change = slide[j] - slide[i];
+            if arc != 0.0 && change / arc < -0.5 {
+                scale = scale.min(-0.5 / (change / arc));
+            }
+        }
+        let moves: Vec<[f64; 3]> = lp
+            .iter()
+            .zip(&slide)
+            .map(|(&v, s)| {
+                let p = x[v as usize];
                 let t = circle.tangent(p);
-                let s = (dt * (velocity[v][0] * t[0] + velocity[v][1] * t[1])).clamp(-limit, limit);
+                let s = s * scale;
                 circle.project([p[0] + s * t[0], p[1] + s * t[1], 0.0])
             })
             .collect();
@@ -124,24 +151,23 @@ pub(crate) fn slide_boundary(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::DiffusionOperator;
     use crate::generate::annulus;
-    use crate::geometry::face_areas;
     use crate::methods::circle_flow::Circle;
 
     #[test]
     fn relaxation_decays_and_cuts_off() {
         let m = annulus(0.4, 1.0, 4, 32).unwrap();
         let incidence = VertexFaces::new(m.n_vertices(), &m.faces);
+        let weights = crate::fem::cotangent_weights(&m.positions, &m.faces);
         let r = Relaxation {
-            smoothing: None,
+            weights: &weights,
             incidence: &incidence,
             faces: &m.faces,
         };
         let nu0 = vec![Complex64::new(0.5, 0.0); m.n_faces()];
         let mut pred = nu0.clone();
         pred[3] = Complex64::new(0.0, 2.0);
-        let out = r.apply(&pred, &nu0, 0.01, 1.0);
+        let out = r.apply(&pred, &nu0, 0.01, 0.0);
         assert!((out[0].re - 0.5 * (1.0 - 0.01)).abs() < 1e-15);
         assert!(out[3].norm() < 1.0 && out[3].norm() > 0.9);
     }
@@ -150,22 +176,21 @@ mod tests {
     fn smoothing_keeps_constants_and_damps_oscillations() {
         let m = annulus(0.4, 1.0, 6, 48).unwrap();
         let incidence = VertexFaces::new(m.n_vertices(), &m.faces);
-        let op = DiffusionOperator::new(m.n_vertices(), &m.faces).unwrap();
-        let areas = face_areas(&m.positions, &m.faces);
+        let weights = crate::fem::cotangent_weights(&m.positions, &m.faces);
         let r = Relaxation {
-            smoothing: Some(op.factor(&m.positions, &areas, 0.05, &[]).unwrap()),
+            weights: &weights,
             incidence: &incidence,
             faces: &m.faces,
         };
         let c = vec![Complex64::new(0.2, -0.3); m.n_faces()];
-        for z in r.apply(&c, &c, 0.0, 1.0) {
+        for z in r.apply(&c, &c, 0.0, 0.05) {
             assert!((z - Complex64::new(0.2, -0.3)).norm() < 1e-12);
         }
         let wave: Vec<Complex64> = (0..m.n_faces())
             .map(|f| Complex64::new(if f % 2 == 0 { 0.3 } else { -0.3 }, 0.0))
             .collect();
         let energy = |v: &[Complex64]| v.iter().map(|z| z.norm_sqr()).sum::<f64>();
-        assert!(energy(&r.apply(&wave, &wave, 0.0, 1.0)) <= energy(&wave) + 1e-12);
+        assert!(energy(&r.apply(&wave, &wave, 0.0, 0.05)) <= energy(&wave) + 1e-12);
     }
 
     #[test]

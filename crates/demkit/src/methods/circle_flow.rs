@@ -75,6 +75,35 @@ impl CircleBoundary {
         }
     }
 
+    /// The Neumann condition ∇ρ·n = 0 of §5.1.3 on the velocity: the part of `v` pointing
+    /// into the nearest circle (out of the domain) is removed at the boundary and tapered
+    /// linearly to nothing at distance `layer` from it. The discrete velocity of the first
+    /// rings keeps such a part, which the boundary vertices, which only slide, cannot follow:
+    /// the triangles between them would be crushed against the circle within a fraction of a
+    /// step. Motion away from the boundary is kept, so a triangle squeezed against a circle
+    /// can open again.
+    pub fn neumann_layer(&self, x: &[[f64; 3]], v: &mut [[f64; 2]], layer: f64) {
+        for (p, w) in x.iter().zip(v.iter_mut()) {
+            let (mut dist, mut outward) = (f64::INFINITY, [0.0; 2]);
+            for (l, c) in self.circles.iter().enumerate() {
+                let d = ((p[0] - c.center[0]).hypot(p[1] - c.center[1]) - c.radius).abs();
+                if d < dist {
+                    dist = d;
+                    let u = c.radial(*p);
+                    // Out of the domain: away from the centre of the outer circle, towards
+                    // the centre of a hole.
+                    outward = if l == 0 { u } else { [-u[0], -u[1]] };
+                }
+            }
+            let weight = 1.0 - dist / layer;
+            let vn = w[0] * outward[0] + w[1] * outward[1];
+            if weight > 0.0 && vn > 0.0 {
+                w[0] -= weight * vn * outward[0];
+                w[1] -= weight * vn * outward[1];
+            }
+        }
+    }
+
     /// True for every boundary vertex.
     pub fn is_boundary(&self) -> Vec<bool> {
         self.loop_of.iter().map(|&l| l != u32::MAX).collect()

@@ -20,7 +20,7 @@ use super::circle_flow::{Circle, CircleBoundary, DensityFlow, FlowState};
 use super::dem::check_config_values;
 use super::geometry_modification::HoleTerms;
 use super::{MapResult, Progress, ProgressFn, StopReason};
-use crate::fem::{DiffusionOperator, VertexFaces};
+use crate::fem::VertexFaces;
 use crate::geometry::face_areas;
 use crate::init::circle_domain::{CircleDomain, circle_domain_map};
 use crate::mesh::topology::topology;
@@ -180,7 +180,8 @@ pub(crate) struct Deq<'a> {
     pub boundary: CircleBoundary,
     pub flow: DensityFlow<'a>,
     pub incidence: VertexFaces,
-    pub smoothing: DiffusionOperator,
+    /// Cotangent weights of D⁰ (the β term's Laplacian).
+    pub source_weights: Vec<[f64; 3]>,
     pub lbs: LinearBeltramiSolver,
     pub alpha: f64,
     pub beta: f64,
@@ -214,6 +215,7 @@ impl<'a> Deq<'a> {
         let boundary = CircleBoundary::new(n, domain.loops.clone(), circles);
         let source = domain.positions.clone();
         let source_areas = face_areas(&source, faces);
+        let source_weights = crate::fem::cotangent_weights(&source, faces);
         let mut fixed = boundary.is_boundary();
         for &v in landmarks {
             fixed[v] = true;
@@ -226,7 +228,7 @@ impl<'a> Deq<'a> {
             boundary,
             flow: DensityFlow::new(n, faces, population)?,
             incidence: VertexFaces::new(n, faces),
-            smoothing: DiffusionOperator::new(n, faces)?,
+            source_weights,
             lbs,
             alpha: config.alpha,
             beta: config.beta,
@@ -252,13 +254,15 @@ impl<'a> Deq<'a> {
         face_density_var + self.alpha * e2
     }
 
-    /// The diffusion time of the velocity at step `h` on the map `x`: `min(h, 30 Ā, |D|/400)`
-    /// with Ā the mean face area and |D| the domain's area — the bound the DEM iteration uses
+    /// The diffusion time of the velocity on the map `x`: `min(δt, 30 Ā, |D|/400)` with Ā the
+    /// mean face area and |D| the domain's area — the bound the DEM iteration uses
     /// (`planar_diffusion`): diffusing over more than a few rings of triangles only blurs the
     /// density, and the velocity then cannot reopen a single squeezed triangle.
-    pub(crate) fn diffusion_time(&self, x: &[[f64; 3]], h: f64) -> f64 {
+    pub(crate) fn diffusion_time(&self, x: &[[f64; 3]]) -> f64 {
         let area: f64 = face_areas(x, self.faces).iter().sum();
-        h.min(SMOOTHING_FACES * area / self.faces.len() as f64)
+        if let Ok(t) = std::env::var("DEQ_TAU") { if let Ok(t) = t.parse::<f64>() { return t; } }
+        self.dt
+            .min(SMOOTHING_FACES * area / self.faces.len() as f64)
             .min(area * SMOOTHING_AREA)
     }
 
@@ -268,16 +272,8 @@ impl<'a> Deq<'a> {
     /// after a full step (tolerance), or Var(ρ̃) improving by less than 2% over 8 iterations
     /// or no acceptable step (stationary).
     pub fn iterate(&mut self, config: &Config, progress: ProgressFn) -> Result<Outcome> {
-        let smoothing = if self.beta > 0.0 {
-            Some(
-                self.smoothing
-                    .factor(&self.source, &self.source_areas, self.dt * self.beta, &[])?,
-            )
-        } else {
-            None
-        };
         let relax = Relaxation {
-            smoothing,
+            weights: &self.source_weights,
             incidence: &self.incidence,
             faces: self.faces,
         };
@@ -302,7 +298,7 @@ impl<'a> Deq<'a> {
         for it in 1..=config.max_iter {
             iterations = it;
             if config.geometry_update && boundary.loops.len() > 1 {
-                let s = self.flow.evaluate(&x, self.diffusion_time(&x, h))?;
+                let s = self.flow.evaluate(&x, self.diffusion_time(&x))?;
                 let nu = beltrami_coefficient(&self.source, &x, self.faces);
                 let rates = terms.rates(&x, &nu, &s.velocity, &boundary);
                 if let Some(v) =
@@ -311,7 +307,7 @@ impl<'a> Deq<'a> {
                     var = v;
                 }
             }
-            let s = self.flow.evaluate(&x, self.diffusion_time(&x, h))?;
+            let s = self.flow.evaluate(&x, self.diffusion_time(&x))?;
             let taken = self.descend(&mut x, &boundary, &s, &relax, h, var)?;
             let Some((step, v)) = taken else {
                 stop_reason = StopReason::Stationary;
@@ -376,7 +372,7 @@ impl<'a> Deq<'a> {
     ) -> Result<Option<f64>> {
         let margin = 2.0 * mean_boundary_edge(x, &boundary.loops);
         for _ in 0..MAX_HALVINGS {
-            let relaxed = relax.apply(nu, nu, h * self.alpha, h / self.dt);
+            let relaxed = relax.apply(nu, nu, h * self.alpha, h * self.beta);
             let circles: Vec<Circle> = std::iter::once(boundary.circles[0])
                 .chain(boundary.circles[1..].iter().zip(rates).map(|(c, r)| Circle {
                     center: [c.center[0] + h * r.center[0], c.center[1] + h * r.center[1]],
@@ -428,10 +424,12 @@ impl<'a> Deq<'a> {
         var: f64,
     ) -> Result<Option<(f64, f64)>> {
         let nu0 = beltrami_coefficient(&self.source, x, self.faces);
-        for _ in 0..MAX_HALVINGS {
+        let mut velocity = s.velocity.clone();
+        boundary.neumann_layer(x, &mut velocity, self.diffusion_time(x).sqrt());
+        let moved = |h: f64| {
             let mut y: Vec<[f64; 3]> = x
                 .iter()
-                .zip(&s.velocity)
+                .zip(&velocity)
                 .map(|(p, v)| [p[0] + h * v[0], p[1] + h * v[1], 0.0])
                 .collect();
             // Boundary vertices: the tangential part only, back onto their circles.
@@ -440,13 +438,39 @@ impl<'a> Deq<'a> {
                     y[v as usize] = x[v as usize];
                 }
             }
-            slide_boundary(&mut y, &s.velocity, h, boundary);
+            slide_boundary(&mut y, &velocity, h, boundary);
+            y
+        };
+        for _ in 0..MAX_HALVINGS {
+            let y = self.limit_squeeze(x, moved(h), boundary);
+            // A move that flips a triangle would leave it to the cut-off (5.43), which rebuilds
+            // it almost flat; a shorter move is taken instead.
+            if count_flips(&y, self.faces) > 0 {
+                h *= 0.5;
+                continue;
+            }
             let predicted = beltrami_coefficient(&self.source, &y, self.faces);
-            let nu = relax.apply(&predicted, &nu0, h * self.alpha, h / self.dt);
+            let nu = relax.apply(&predicted, &nu0, h * self.alpha, h * self.beta);
             let z = self.lbs.solve(&self.source, &nu, &y)?;
             let flips = count_flips(&z, self.faces);
             let v = self.flow.face_density_var(&z);
-            if std::env::var("DEQ_DEBUG").is_ok() { eprintln!("    bded h {h:.4} flips {flips} var {v:.5} (from {var:.5})"); }
+            if std::env::var("DEQ_DEBUG").is_ok() {
+                let big = nu.iter().filter(|z| z.norm() > 0.8).count();
+                if (h - 0.0125).abs() < 1e-6 {
+                    let ar = face_areas(x, self.faces);
+                    let mean_a = ar.iter().sum::<f64>() / ar.len() as f64;
+                    for (fi, f) in self.faces.iter().enumerate() {
+                        let [a, b, c] = f.map(|v| y[v as usize]);
+                        if crate::geometry::signed_area_2d(a, b, c) <= 0.0 {
+                            let p = x[f[0] as usize];
+                            let d = boundary.circles.iter().map(|c| ((p[0]-c.center[0]).hypot(p[1]-c.center[1]) - c.radius).abs()).fold(f64::INFINITY, f64::min);
+                            let vv = velocity[f[0] as usize];
+                            eprintln!("      flip face {fi} dist {d:.4} area/mean {:.3} v ({:.2},{:.2})", ar[fi]/mean_a, vv[0], vv[1]);
+                        }
+                    }
+                }
+                eprintln!("    bded h {h:.4} flips {flips} (y {}) |nu|>0.8: {big} var {v:.5} (from {var:.5}) var(y) {:.4}", count_flips(&y, self.faces), self.flow.face_density_var(&y));
+            }
             if flips == 0 && v < var {
                 *x = z;
                 return Ok(Some((h, v)));
@@ -454,6 +478,56 @@ impl<'a> Deq<'a> {
             h *= 0.5;
         }
         Ok(None)
+    }
+}
+
+impl Deq<'_> {
+    /// Shortens the move `x → y` vertex by vertex so that no triangle moving linearly would
+    /// lose more than about half its area: every triangle whose collapse time `t` along the
+    /// move is below 2 limits its corners' moves to the fraction `t/2` (the DEM iteration's
+    /// margin, `planar_diffusion::safe_update`, applied locally: one squeezed triangle at the
+    /// rim of a hole must not stop the whole domain). Boundary vertices stay on their circles.
+    /// Beyond the margin the move's Beltrami coefficient would be cut off (5.43) and the
+    /// reconstruction would squeeze triangles almost flat.
+    pub(crate) fn limit_squeeze(
+        &self,
+        x: &[[f64; 3]],
+        mut y: Vec<[f64; 3]>,
+        boundary: &CircleBoundary,
+    ) -> Vec<[f64; 3]> {
+        use rayon::prelude::*;
+        let t: Vec<f64> = self
+            .faces
+            .par_iter()
+            .map(|f| {
+                let p = f.map(|v| x[v as usize]);
+                let d = f.map(|v| {
+                    let (a, b) = (x[v as usize], y[v as usize]);
+                    [b[0] - a[0], b[1] - a[1]]
+                });
+                super::planar_diffusion::collapse_time(p, d)
+            })
+            .collect();
+        let mut factor = vec![1.0f64; x.len()];
+        for (f, &tf) in self.faces.iter().zip(&t) {
+            if tf < 2.0 {
+                for &v in f {
+                    factor[v as usize] = factor[v as usize].min(0.5 * tf);
+                }
+            }
+        }
+        for (v, p) in y.iter_mut().enumerate() {
+            let k = factor[v];
+            if k < 1.0 {
+                let a = x[v];
+                *p = [a[0] + k * (p[0] - a[0]), a[1] + k * (p[1] - a[1]), 0.0];
+                let l = boundary.loop_of[v];
+                if l != u32::MAX {
+                    *p = boundary.circles[l as usize].project(*p);
+                }
+            }
+        }
+        y
     }
 }
 

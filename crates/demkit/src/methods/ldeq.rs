@@ -139,30 +139,8 @@ fn iterate(
 ) -> Result<deq::Outcome> {
     let c = &config.deq;
     let (alpha, beta, eta, dt) = (c.alpha, c.beta, config.eta, c.dt);
-    let gm_relax = Relaxation {
-        smoothing: if beta > 0.0 {
-            Some(
-                deq.smoothing
-                    .factor(&deq.source, &deq.source_areas, dt * beta, &[])?,
-            )
-        } else {
-            None
-        },
-        incidence: &deq.incidence,
-        faces: deq.faces,
-    };
-    // (5.55): ((α + η) A + β L) ν = η A μ, i.e. ν = η/(α+η) μ smoothed over β/(α+η).
-    let split_relax = Relaxation {
-        smoothing: if beta > 0.0 {
-            Some(deq.smoothing.factor(
-                &deq.source,
-                &deq.source_areas,
-                beta / (alpha + eta),
-                &[],
-            )?)
-        } else {
-            None
-        },
+    let relax = Relaxation {
+        weights: &deq.source_weights,
         incidence: &deq.incidence,
         faces: deq.faces,
     };
@@ -193,14 +171,14 @@ fn iterate(
     for it in 1..=c.max_iter {
         iterations = it;
         if c.geometry_update && boundary.loops.len() > 1 {
-            let s = deq.flow.evaluate(&x, deq.diffusion_time(&x, h))?;
+            let s = deq.flow.evaluate(&x, deq.diffusion_time(&x))?;
             let mu = beltrami_coefficient(&deq.source, &x, deq.faces);
             let rates = terms.rates(&x, &mu, &s.velocity, &boundary);
-            if let Some(v) = deq.modify_geometry(&mut x, &mut boundary, &rates, &mu, &gm_relax, h, var)? {
+            if let Some(v) = deq.modify_geometry(&mut x, &mut boundary, &rates, &mu, &relax, h, var)? {
                 var = v;
             }
         }
-        let s = deq.flow.evaluate(&x, deq.diffusion_time(&x, h))?;
+        let s = deq.flow.evaluate(&x, deq.diffusion_time(&x))?;
         let mu_x = beltrami_coefficient(&deq.source, &x, deq.faces);
         let arrived = reached(&x);
         let mut accepted = None;
@@ -250,7 +228,12 @@ fn iterate(
             // A shortened step relaxes proportionally less, so that the step tends to g* as it
             // shrinks (LBS reproduces g* from μ(g*) exactly).
             let f = (step / dt).min(1.0);
-            let nu_new = split_relax.apply(&mu_star, &mu_star, f * alpha / (alpha + eta), f);
+            let nu_new = relax.apply(
+                &mu_star,
+                &mu_star,
+                f * alpha / (alpha + eta),
+                f * beta / (alpha + eta),
+            );
             let g = deq.lbs.solve(&deq.source, &nu_new, &y)?;
             if std::env::var("DEQ_DEBUG").is_ok() {
                 eprintln!("  ldeq it {it} step {step:.4} travel {travel:.3} flips g* {} g {} var {:.4} arrived {arrived}", count_flips(&g_star, deq.faces), count_flips(&g, deq.faces), deq.flow.face_density_var(&g));
