@@ -4,6 +4,7 @@
 
 pub mod boundary_flattening;
 pub mod circle_domain;
+pub mod disk_mobius;
 pub mod mobius;
 pub mod sea;
 pub mod shape;

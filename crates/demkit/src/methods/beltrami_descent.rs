@@ -193,10 +193,13 @@ mod tests {
         assert!(energy(&r.apply(&wave, &wave, 0.0, 0.05)) <= energy(&wave) + 1e-12);
     }
 
-    #[test]
-    fn sliding_keeps_vertices_on_their_circle_and_in_order() {
+    fn annulus_boundary() -> (crate::TriMesh, CircleBoundary) {
         let m = annulus(0.5, 1.0, 3, 24).unwrap();
         let topo = crate::mesh::topology::topology(&m);
+        // Both loops have 24 vertices: put the outer one (radius 1) first.
+        let mut loops = topo.boundary_loops.clone();
+        let r = |l: &Vec<u32>| m.positions[l[0] as usize][0].hypot(m.positions[l[0] as usize][1]);
+        loops.sort_by(|a, b| r(b).total_cmp(&r(a)));
         let circles = vec![
             Circle {
                 center: [0.0, 0.0],
@@ -207,17 +210,24 @@ mod tests {
                 radius: 0.5,
             },
         ];
-        // Both loops have 24 vertices: put the outer one (radius 1) first.
-        let mut loops = topo.boundary_loops.clone();
-        loops.sort_by(|a, b| {
-            let r = |l: &Vec<u32>| m.positions[l[0] as usize][0].hypot(m.positions[l[0] as usize][1]);
-            r(b).total_cmp(&r(a))
-        });
         let b = CircleBoundary::new(m.n_vertices(), loops, circles);
+        (m, b)
+    }
+
+    #[test]
+    fn sliding_keeps_vertices_on_their_circle_and_in_order() {
+        let (m, b) = annulus_boundary();
         let mut x = m.positions.clone();
-        assert_eq!(count_flips(&x, &m.faces), 0);
-        // A strong swirl: without the limit vertices would overtake each other.
-        let v: Vec<[f64; 2]> = x.iter().map(|p| [-p[1] * 10.0, p[0] * 10.0]).collect();
+        // Neighbours sliding towards each other: unlimited, they would meet and cross.
+        let v: Vec<[f64; 2]> = (0..x.len())
+            .map(|i| {
+                let p = x[i];
+                let s = if i % 2 == 0 { 10.0 } else { -10.0 };
+                [-p[1] * s, p[0] * s]
+            })
+            .collect();
+        let angle = |p: [f64; 3]| p[1].atan2(p[0]);
+        let before: Vec<f64> = b.loops[0].iter().map(|&i| angle(x[i as usize])).collect();
         slide_boundary(&mut x, &v, 1.0, &b);
         for (lp, c) in b.loops.iter().zip(&b.circles) {
             for &i in lp {
@@ -225,6 +235,29 @@ mod tests {
                 assert!((p[0].hypot(p[1]) - c.radius).abs() < 1e-14);
             }
         }
-        assert_eq!(count_flips(&x, &m.faces), 0);
+        // Every gap of the outer loop keeps at least half its length, in the same direction.
+        let n = before.len();
+        let wrap = |d: f64| d - std::f64::consts::TAU * (d / std::f64::consts::TAU).round();
+        for k in 0..n {
+            let (i, j) = (b.loops[0][k] as usize, b.loops[0][(k + 1) % n] as usize);
+            let old = wrap(before[(k + 1) % n] - before[k]);
+            let new = wrap(angle(x[j]) - angle(x[i]));
+            assert!(new / old >= 0.5 - 1e-9, "gap {k}: {old} -> {new}");
+        }
+    }
+
+    #[test]
+    fn a_loop_turning_as_a_whole_slides_freely() {
+        let (m, b) = annulus_boundary();
+        let mut x = m.positions.clone();
+        let v: Vec<[f64; 2]> = x.iter().map(|p| [-p[1] * 0.3, p[0] * 0.3]).collect();
+        slide_boundary(&mut x, &v, 1.0, &b);
+        // Every vertex turns by its arc length 0.3 r / r = 0.3 rad... on the outer circle
+        // (tangential speed 0.3, radius 1) and 0.15 / 0.5 = 0.3 rad on the inner one.
+        for (&i, p0) in b.loops[0].iter().map(|i| (i, m.positions[*i as usize])) {
+            let d = x[i as usize][1].atan2(x[i as usize][0]) - p0[1].atan2(p0[0]);
+            let d = d - std::f64::consts::TAU * (d / std::f64::consts::TAU).round();
+            assert!((d - 0.3).abs() < 0.05, "{d}");
+        }
     }
 }

@@ -3,17 +3,16 @@
 
 use super::deq::circle_input;
 use super::{MapResult, StopReason};
-use crate::init::circle_domain::circle_domain_map;
 use crate::{Result, TriMesh};
 use std::time::Instant;
 
 /// Computes the conformal map of `mesh` (a connected open genus-0 surface) onto the unit disk
-/// minus one round hole per inner boundary loop. `population` is only checked (the report
-/// measures the map's density against it).
+/// minus one round hole per inner boundary loop, among the equivalent ones (up to disk
+/// automorphisms) the one whose areas best match `population`.
 pub fn run(mesh: &TriMesh, population: &[f64]) -> Result<MapResult> {
     let loops = circle_input(mesh, population, "circle-conformal")?;
     let t0 = Instant::now();
-    let domain = circle_domain_map(mesh, &loops)?;
+    let domain = super::deq::initial_circle_domain(mesh, &loops, population)?;
     Ok(MapResult {
         method: "circle-conformal",
         positions: domain.positions.clone(),

@@ -20,7 +20,6 @@
 use super::beltrami_descent::{Relaxation, count_flips, slide_boundary};
 use super::deq::{self, Deq, circle_input};
 use super::{MapResult, Progress, ProgressFn, StopReason};
-use crate::init::circle_domain::circle_domain_map;
 use crate::qc::{beltrami_coefficient, cut_off};
 use crate::{Error, Result, TriMesh};
 use num_complex::Complex64;
@@ -107,7 +106,7 @@ pub fn run(
     let loops = circle_input(mesh, population, "ldeq")?;
     check_landmarks(mesh, &loops, landmarks)?;
     let t0 = Instant::now();
-    let domain = circle_domain_map(mesh, &loops)?;
+    let domain = deq::initial_circle_domain(mesh, &loops, population)?;
     let time_init = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let vertices: Vec<usize> = landmarks.iter().map(|l| l.0).collect();
@@ -154,8 +153,8 @@ fn iterate(
     );
     let mut boundary = deq.boundary.clone();
     let mut x = deq.source.clone();
-    let mut var = deq.flow.face_density_var(&x);
-    let mut energy = deq.energy(&x, var);
+    let mut fit = deq.flow.fit(&x);
+    let mut energy = deq.energy(&x, fit.var);
     let zero = Complex64::new(0.0, 0.0);
     let mut nu = vec![zero; deq.faces.len()];
     let mut history = Vec::new();
@@ -174,8 +173,10 @@ fn iterate(
             let s = deq.flow.evaluate(&x, deq.diffusion_time(&x))?;
             let mu = beltrami_coefficient(&deq.source, &x, deq.faces);
             let rates = terms.rates(&x, &mu, &s.velocity, &boundary);
-            if let Some(v) = deq.modify_geometry(&mut x, &mut boundary, &rates, &mu, &relax, h, var)? {
-                var = v;
+            if let Some(f) =
+                deq.modify_geometry(&mut x, &mut boundary, &rates, &mu, &relax, h, fit)?
+            {
+                fit = f;
             }
         }
         let s = deq.flow.evaluate(&x, deq.diffusion_time(&x))?;
@@ -235,36 +236,33 @@ fn iterate(
                 f * beta / (alpha + eta),
             );
             let g = deq.lbs.solve(&deq.source, &nu_new, &y)?;
-            if std::env::var("DEQ_DEBUG").is_ok() {
-                eprintln!("  ldeq it {it} step {step:.4} travel {travel:.3} flips g* {} g {} var {:.4} arrived {arrived}", count_flips(&g_star, deq.faces), count_flips(&g, deq.faces), deq.flow.face_density_var(&g));
-            }
             if count_flips(&g, deq.faces) == 0 {
-                let v = deq.flow.face_density_var(&g);
-                if v < var || !arrived {
+                let f = deq.flow.fit(&g);
+                if f.var < fit.var || !arrived {
                     let mu_g = beltrami_coefficient(&deq.source, &g, deq.faces);
                     nu = nu_new
                         .iter()
                         .zip(&mu_g)
                         .map(|(n, m)| cut_off(n + (m - n) * (step / dt).min(1.0), 0.1))
                         .collect();
-                    accepted = Some((g, v));
+                    accepted = Some((g, f));
                     break;
                 }
             }
             step *= 0.5;
         }
-        let Some((g, v)) = accepted else {
+        let Some((g, f)) = accepted else {
             stop_reason = StopReason::Stationary;
             break;
         };
         x = g;
-        var = v;
-        let e = deq.energy(&x, var);
+        fit = f;
+        let e = deq.energy(&x, fit.var);
         history.push(e);
         progress(Progress {
             iteration: it,
             max_iter: c.max_iter,
-            error: var,
+            error: fit.var,
         });
         if reached(&x) && arrived && (e - energy).abs() < c.epsilon {
             stop_reason = StopReason::Tolerance;
@@ -420,7 +418,7 @@ mod tests {
             let p = out.positions[v];
             assert!((p[0] - q[0]).hypot(p[1] - q[1]) < 1e-12);
         }
-        let var = state.flow.face_density_var(&out.positions);
+        let var = state.flow.fit(&out.positions).var;
         assert!(var < 0.12, "Var {var}");
         assert_ne!(out.stop_reason, StopReason::MaxIter);
     }
