@@ -1,6 +1,8 @@
 //! Initial maps: curvature-based boundary flattening (DEM Alg. 1), Tutte and locally authalic
 //! fixed-boundary maps (Alg. 2–3), prescribed boundary shapes, the reflection sea (Alg. 4), and
-//! the spherical conformal map of a genus-0 closed surface with its Möbius area correction.
+//! the spherical conformal map of a genus-0 closed surface with its Möbius area correction, and
+//! the conformal map of a multiply connected open surface onto a circle domain with the disk
+//! automorphism that balances its areas.
 
 pub mod boundary_flattening;
 pub mod circle_domain;

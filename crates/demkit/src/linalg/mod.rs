@@ -11,7 +11,9 @@
 mod cholesky;
 mod lu;
 mod pattern;
+mod spd;
 
 pub use cholesky::{CachedCholesky, CholeskyFactor};
 pub use lu::solve_lu;
 pub use pattern::StiffnessPattern;
+pub use spd::{ElementPattern, SpdSolver, minimum_degree_order, packed_index};
