@@ -195,7 +195,15 @@ fn closed_mesh_is_refused_by_deq_and_ldeq() {
 #[test]
 fn ldeq_landmarks_are_checked() {
     let s = Scratch::new("ldeqlm");
-    s.generate(&["annulus", "--radial", "4", "--angular", "24", "--out", "a.obj"]);
+    s.generate(&[
+        "annulus",
+        "--radial",
+        "4",
+        "--angular",
+        "24",
+        "--out",
+        "a.obj",
+    ]);
     map(&s, "a.obj", &["--method", "ldeq"]).input_error_naming(&["ldeq", "--landmarks"]);
     // Vertex 0 lies on the inner circle.
     s.write("b.txt", "0 0.5 0\n");
@@ -927,4 +935,155 @@ fn lsdem_landmark_errors_are_refused() {
         ],
     )
     .input_error_naming(&["--gamma"]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Surfaces with holes: deq, ldeq, circle-conformal.
+// ---------------------------------------------------------------------------------------------
+
+/// Largest relative distance of the points `ids` of `m` from the circle through three of them.
+fn off_circle(m: &common::Mesh, ids: &[usize]) -> f64 {
+    let p = |i: usize| m.positions[ids[i]];
+    let (a, b, c) = (p(0), p(ids.len() / 3), p(2 * ids.len() / 3));
+    let d = 2.0 * (a[0] * (b[1] - c[1]) + b[0] * (c[1] - a[1]) + c[0] * (a[1] - b[1]));
+    let sq = |q: [f64; 3]| q[0] * q[0] + q[1] * q[1];
+    let ux = (sq(a) * (b[1] - c[1]) + sq(b) * (c[1] - a[1]) + sq(c) * (a[1] - b[1])) / d;
+    let uy = (sq(a) * (c[0] - b[0]) + sq(b) * (a[0] - c[0]) + sq(c) * (b[0] - a[0])) / d;
+    let r = (a[0] - ux).hypot(a[1] - uy);
+    ids.iter()
+        .map(|&i| ((m.positions[i][0] - ux).hypot(m.positions[i][1] - uy) - r).abs() / r)
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn deq_maps_a_disk_with_holes_onto_a_circle_domain() {
+    let s = Scratch::new("deq");
+    s.generate(&[
+        "disk-holes",
+        "--hole",
+        "0.35:0.1:0.2",
+        "--hole",
+        "-0.3:-0.2:0.15",
+        "--resolution",
+        "48",
+        "--out",
+        "h.obj",
+    ]);
+    // `auto` picks deq for a surface with holes.
+    s.ok(&[
+        "map",
+        "h.obj",
+        "--out",
+        "o.obj",
+        "--report",
+        "r.json",
+        "--population",
+        "area*(1+(x>0))",
+        "--quiet",
+    ]);
+    let (input, input_faces) = parse_obj(&s.read("h.obj"));
+    let (output, output_faces) = parse_obj(&s.read("o.obj"));
+    assert_eq!(output_faces, input_faces);
+    let r = json_file(&s.path("r.json"));
+    check_report(&r, "deq", &input, 3);
+    assert!(
+        number(&r, "metrics.face_density_var_final")
+            < number(&r, "metrics.face_density_var_initial") / 4.0
+    );
+    // Outer loop on the unit circle, both holes round: the generator puts the outer circle's 48
+    // vertices first, then each hole's.
+    let outer: Vec<usize> = (0..48).collect();
+    for &i in &outer {
+        let p = output.positions[i];
+        assert!((p[0].hypot(p[1]) - 1.0).abs() < 1e-9);
+    }
+    let first_hole: Vec<usize> = (48..48 + 10).collect();
+    let second_hole: Vec<usize> = (58..58 + 8).collect();
+    assert!(off_circle(&output, &first_hole) < 1e-9);
+    assert!(off_circle(&output, &second_hole) < 1e-9);
+}
+
+#[test]
+fn circle_conformal_and_no_geometry_update_keep_the_holes_round() {
+    let s = Scratch::new("circleconf");
+    s.generate(&[
+        "disk-holes",
+        "--hole",
+        "0.3:0:0.25",
+        "--resolution",
+        "40",
+        "--out",
+        "h.obj",
+    ]);
+    s.ok(&[
+        "map",
+        "h.obj",
+        "--method",
+        "circle-conformal",
+        "--out",
+        "c.obj",
+        "--report",
+        "c.json",
+        "--quiet",
+    ]);
+    let r = json_file(&s.path("c.json"));
+    assert_eq!(at(&r, "method").as_str(), Some("circle-conformal"));
+    assert!(number(&r, "metrics.mean_abs_mu") < 0.02, "{r:#}");
+    s.ok(&[
+        "map",
+        "h.obj",
+        "--method",
+        "deq",
+        "--no-geometry-update",
+        "--out",
+        "d.obj",
+        "--quiet",
+    ]);
+    let (conformal, _) = parse_obj(&s.read("c.obj"));
+    let (shape_preserving, _) = parse_obj(&s.read("d.obj"));
+    // Without geometry modification the hole keeps the initial map's circle (same three points
+    // define it up to the sliding of the vertices along it).
+    let hole: Vec<usize> = (40..50).collect();
+    assert!(off_circle(&shape_preserving, &hole) < 1e-9);
+    let centre = |m: &common::Mesh| {
+        let n = hole.len() as f64;
+        hole.iter().fold([0.0, 0.0], |c, &i| {
+            [c[0] + m.positions[i][0] / n, c[1] + m.positions[i][1] / n]
+        })
+    };
+    let (a, b) = (centre(&conformal), centre(&shape_preserving));
+    assert!((a[0] - b[0]).hypot(a[1] - b[1]) < 0.02, "{a:?} vs {b:?}");
+}
+
+#[test]
+fn ldeq_sends_landmarks_to_their_targets() {
+    let s = Scratch::new("ldeq");
+    s.generate(&["annulus", "--out", "a.obj"]);
+    // Four vertices of the middle circle (radius 0.7), pulled outwards and turned a little.
+    let lines: Vec<String> = (0..4)
+        .map(|k| {
+            let j = 12 + 24 * k;
+            let a = std::f64::consts::TAU * j as f64 / 96.0 - 0.1;
+            format!("{} {} {}", 6 * 96 + j, 0.75 * a.cos(), 0.75 * a.sin())
+        })
+        .collect();
+    s.write("l.txt", &(lines.join("\n") + "\n"));
+    s.ok(&[
+        "map",
+        "a.obj",
+        "--landmarks",
+        "l.txt",
+        "--population",
+        "area*(1+(x>0)+2*(y>0))",
+        "--out",
+        "o.obj",
+        "--report",
+        "r.json",
+        "--quiet",
+    ]);
+    let r = json_file(&s.path("r.json"));
+    assert_eq!(at(&r, "method").as_str(), Some("ldeq"));
+    assert_eq!(at(&r, "converged").as_bool(), Some(true), "{r:#}");
+    assert_eq!(count(&r, "metrics.flipped_triangles"), 0, "{r:#}");
+    assert!(number(&r, "metrics.landmark_error") <= 1e-3, "{r:#}");
 }

@@ -60,7 +60,10 @@ fn run(rel: &str, seconds: f64) -> (MapResult, Metrics) {
     let topo = demkit::mesh::topology::topology(&mesh);
     for lp in &topo.boundary_loops {
         let dev = circle_deviation(&r.positions, lp);
-        assert!(dev <= 1e-6, "{rel}: a boundary loop is {dev:e} off its circle");
+        assert!(
+            dev <= 1e-6,
+            "{rel}: a boundary loop is {dev:e} off its circle"
+        );
     }
     let on_unit_circle = topo.boundary_loops.iter().any(|lp| {
         lp.iter().all(|&v| {
@@ -79,7 +82,11 @@ fn run(rel: &str, seconds: f64) -> (MapResult, Metrics) {
 #[ignore = "needs real meshes (DEMKIT_DATA)"]
 fn alex_3_holes() {
     let (_, m) = run("multiply-connected/alex_3.obj", 6.0);
-    assert!(m.face_density_var_final <= 0.08, "{}", m.face_density_var_final);
+    assert!(
+        m.face_density_var_final <= 0.08,
+        "{}",
+        m.face_density_var_final
+    );
     assert!(m.mean_abs_mu <= 0.25, "{}", m.mean_abs_mu);
 }
 
@@ -87,5 +94,9 @@ fn alex_3_holes() {
 #[ignore = "needs real meshes (DEMKIT_DATA)"]
 fn sophie_one_hole() {
     let (_, m) = run("multiply-connected/sophie.obj", 6.0);
-    assert!(m.face_density_var_final <= 0.06, "{}", m.face_density_var_final);
+    assert!(
+        m.face_density_var_final <= 0.06,
+        "{}",
+        m.face_density_var_final
+    );
 }

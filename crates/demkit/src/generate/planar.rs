@@ -235,12 +235,10 @@ fn holed_domain(outer: Outer, holes: &[(f64, f64, f64)], resolution: usize) -> R
                 "the centre of hole {k} must be finite, got ({cx}, {cy})"
             )));
         }
-        if let Outer::Disk = outer {
-            if cx.hypot(cy) + r >= 1.0 {
-                return Err(Error::Argument(format!(
-                    "hole {k} (centre ({cx}, {cy}), radius {r}) is not inside the unit disk"
-                )));
-            }
+        if matches!(outer, Outer::Disk) && cx.hypot(cy) + r >= 1.0 {
+            return Err(Error::Argument(format!(
+                "hole {k} (centre ({cx}, {cy}), radius {r}) is not inside the unit disk"
+            )));
         }
         if outer.depth([cx, cy], resolution) <= r {
             return Err(Error::Argument(format!(

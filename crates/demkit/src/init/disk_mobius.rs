@@ -118,7 +118,12 @@ pub fn balance_areas(domain: &CircleDomain, faces: &[[u32; 3]], weights: &[f64])
 }
 
 /// Nelder–Mead minimisation of `f` over the plane from `x0` with initial step `step`.
-fn nelder_mead(f: impl Fn([f64; 2]) -> f64, x0: [f64; 2], step: f64, iterations: usize) -> ([f64; 2], f64) {
+fn nelder_mead(
+    f: impl Fn([f64; 2]) -> f64,
+    x0: [f64; 2],
+    step: f64,
+    iterations: usize,
+) -> ([f64; 2], f64) {
     let mut s = [x0, [x0[0] + step, x0[1]], [x0[0], x0[1] + step]];
     let mut v = s.map(&f);
     for _ in 0..iterations {
@@ -179,7 +184,9 @@ mod tests {
     fn circles_map_to_circles() {
         let a = Complex64::new(-0.4, 0.25);
         let (c, r) = (Complex64::new(0.2, 0.1), 0.3);
-        let pts: [Complex64; 3] = std::array::from_fn(|k| disk_automorphism(a, c + Complex64::from_polar(r, k as f64 * 2.0)));
+        let pts: [Complex64; 3] = std::array::from_fn(|k| {
+            disk_automorphism(a, c + Complex64::from_polar(r, k as f64 * 2.0))
+        });
         let (center, radius) = circumcircle(pts).unwrap();
         for k in 0..10 {
             let w = disk_automorphism(a, c + Complex64::from_polar(r, 0.37 * k as f64));
@@ -205,7 +212,9 @@ mod tests {
         let mut loops = topo.boundary_loops.clone();
         let r = |l: &Vec<u32>| m.positions[l[0] as usize][0].hypot(m.positions[l[0] as usize][1]);
         loops.sort_by(|x, y| r(y).total_cmp(&r(x)));
-        let pts: [Complex64; 3] = std::array::from_fn(|k| disk_automorphism(b, Complex64::from_polar(0.4, k as f64 * 2.0)));
+        let pts: [Complex64; 3] = std::array::from_fn(|k| {
+            disk_automorphism(b, Complex64::from_polar(0.4, k as f64 * 2.0))
+        });
         let (c, rad) = circumcircle(pts).unwrap();
         let domain = CircleDomain {
             positions: moved,
@@ -215,7 +224,11 @@ mod tests {
         };
         let areas = crate::geometry::face_areas(&m.positions, &m.faces);
         let out = balance_areas(&domain, &m.faces, &areas);
-        assert!(out.centers[1][0].hypot(out.centers[1][1]) < 1e-3, "{:?}", out.centers[1]);
+        assert!(
+            out.centers[1][0].hypot(out.centers[1][1]) < 1e-3,
+            "{:?}",
+            out.centers[1]
+        );
         assert!((out.radii[1] - 0.4).abs() < 1e-3, "{}", out.radii[1]);
     }
 }

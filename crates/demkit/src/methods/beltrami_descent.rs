@@ -71,7 +71,11 @@ impl Relaxation<'_> {
                 }
             }
             let max_diag = diag.iter().cloned().fold(0.0, f64::max);
-            let s = if max_diag > 0.0 { smoothing.min(0.5 / max_diag) } else { 0.0 };
+            let s = if max_diag > 0.0 {
+                smoothing.min(0.5 / max_diag)
+            } else {
+                0.0
+            };
             for (z, f) in nu.iter_mut().zip(self.faces) {
                 if !z.is_finite() {
                     continue;

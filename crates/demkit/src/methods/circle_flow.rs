@@ -28,7 +28,11 @@ impl Circle {
     pub fn radial(&self, p: [f64; 3]) -> [f64; 2] {
         let (dx, dy) = (p[0] - self.center[0], p[1] - self.center[1]);
         let r = dx.hypot(dy);
-        if r > 0.0 { [dx / r, dy / r] } else { [1.0, 0.0] }
+        if r > 0.0 {
+            [dx / r, dy / r]
+        } else {
+            [1.0, 0.0]
+        }
     }
 
     /// The counter-clockwise unit tangent at `p`.
@@ -216,7 +220,9 @@ mod tests {
             radius: 2.0,
         };
         let p = c.project([4.0, 3.0, 0.7]);
-        assert!((p[0] - (1.0 + 2.0 * 0.6)).abs() < 1e-15 && (p[1] - (-1.0 + 2.0 * 0.8)).abs() < 1e-15);
+        assert!(
+            (p[0] - (1.0 + 2.0 * 0.6)).abs() < 1e-15 && (p[1] - (-1.0 + 2.0 * 0.8)).abs() < 1e-15
+        );
         assert_eq!(p[2], 0.0);
         let t = c.tangent([4.0, 3.0, 0.0]);
         assert!((t[0] + 0.8).abs() < 1e-15 && (t[1] - 0.6).abs() < 1e-15);

@@ -395,10 +395,15 @@ impl<'a> Deq<'a> {
         for _ in 0..MAX_HALVINGS {
             let relaxed = relax.apply(nu, nu, h * self.alpha, h * self.beta);
             let circles: Vec<Circle> = std::iter::once(boundary.circles[0])
-                .chain(boundary.circles[1..].iter().zip(rates).map(|(c, r)| Circle {
-                    center: [c.center[0] + h * r.center[0], c.center[1] + h * r.center[1]],
-                    radius: (c.radius + h * r.radius).max(0.5 * c.radius),
-                }))
+                .chain(
+                    boundary.circles[1..]
+                        .iter()
+                        .zip(rates)
+                        .map(|(c, r)| Circle {
+                            center: [c.center[0] + h * r.center[0], c.center[1] + h * r.center[1]],
+                            radius: (c.radius + h * r.radius).max(0.5 * c.radius),
+                        }),
+                )
                 .collect();
             if !circles_fit(&circles, margin) {
                 h *= 0.5;
@@ -626,7 +631,11 @@ pub(crate) mod tests {
         );
         assert_eq!(m.flipped_triangles, 0);
         assert!(r.converged);
-        assert!(m.face_density_var_final < 0.10, "{}", m.face_density_var_final);
+        assert!(
+            m.face_density_var_final < 0.10,
+            "{}",
+            m.face_density_var_final
+        );
         assert!(m.mean_abs_mu < 0.2);
     }
 }

@@ -242,8 +242,9 @@ fn solve4(mut m: [[f64; 4]; 4], mut b: [f64; 4]) -> Option<[f64; 4]> {
         b.swap(col, piv);
         for row in col + 1..4 {
             let f = m[row][col] / m[col][col];
-            for k in col..4 {
-                m[row][k] -= f * m[col][k];
+            let pivot_row = m[col];
+            for (target, p) in m[row][col..].iter_mut().zip(&pivot_row[col..]) {
+                *target -= f * p;
             }
             b[row] -= f * b[col];
         }
@@ -356,7 +357,10 @@ mod tests {
             let x = moved(q);
             let nu = beltrami_coefficient(&source, &x, &m.faces);
             let ring = &terms.ring[1];
-            let e2: f64 = ring.iter().map(|&f| areas[f as usize] * nu[f as usize].norm_sqr()).sum();
+            let e2: f64 = ring
+                .iter()
+                .map(|&f| areas[f as usize] * nu[f as usize].norm_sqr())
+                .sum();
             let vnu: Vec<Complex64> = (0..m.n_vertices())
                 .map(|v| {
                     let fs: Vec<usize> = (0..m.n_faces())
@@ -383,7 +387,10 @@ mod tests {
         let x0 = moved(q0);
         let nu0 = beltrami_coefficient(&source, &x0, &m.faces);
         let mut shifted = b.clone();
-        shifted.circles[1].center = [b.circles[1].center[0] + q0[0], b.circles[1].center[1] + q0[1]];
+        shifted.circles[1].center = [
+            b.circles[1].center[0] + q0[0],
+            b.circles[1].center[1] + q0[1],
+        ];
         shifted.circles[1].radius += q0[2];
         let (g2, g3) = terms.beltrami_gradients(1, &x0, &nu0, &shifted);
         let h = 1e-6;
@@ -394,8 +401,16 @@ mod tests {
             let (p2, p3) = energies(qp);
             let (m2, m3) = energies(qm);
             let (fd2, fd3) = ((p2 - m2) / (2.0 * h), (p3 - m3) / (2.0 * h));
-            assert!((fd2 - g2[j]).abs() < 1e-5 * (1.0 + fd2.abs()), "E2 q{j}: {fd2} vs {}", g2[j]);
-            assert!((fd3 - g3[j]).abs() < 1e-5 * (1.0 + fd3.abs()), "E3 q{j}: {fd3} vs {}", g3[j]);
+            assert!(
+                (fd2 - g2[j]).abs() < 1e-5 * (1.0 + fd2.abs()),
+                "E2 q{j}: {fd2} vs {}",
+                g2[j]
+            );
+            assert!(
+                (fd3 - g3[j]).abs() < 1e-5 * (1.0 + fd3.abs()),
+                "E3 q{j}: {fd3} vs {}",
+                g3[j]
+            );
         }
     }
 }

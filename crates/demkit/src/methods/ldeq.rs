@@ -163,9 +163,10 @@ fn iterate(
     let mut iterations = 0;
     let mut h = dt;
     let reached = |x: &[[f64; 3]]| {
-        vertices.iter().zip(targets).all(|(&v, q)| {
-            x[v][0] == q[0] && x[v][1] == q[1]
-        })
+        vertices
+            .iter()
+            .zip(targets)
+            .all(|(&v, q)| x[v][0] == q[0] && x[v][1] == q[1])
     };
     for it in 1..=c.max_iter {
         iterations = it;
@@ -218,7 +219,16 @@ fn iterate(
                 .iter()
                 .zip(&mu_x)
                 .zip(&nu)
-                .map(|((p, m), n)| cut_off(if p.is_finite() { p - (m - n) * pull } else { *p }, 0.1))
+                .map(|((p, m), n)| {
+                    cut_off(
+                        if p.is_finite() {
+                            p - (m - n) * pull
+                        } else {
+                            *p
+                        },
+                        0.1,
+                    )
+                })
                 .collect();
             let g_star = deq.lbs.solve(&deq.source, &mu, &y)?;
             let mu_star: Vec<Complex64> = beltrami_coefficient(&deq.source, &g_star, deq.faces)
@@ -320,7 +330,9 @@ fn landmark_correction(
         })
         .fold(f64::INFINITY, f64::min);
     let sigma2 = (0.5 * clearance.max(1e-6)).powi(2);
-    let phi = |a: [f64; 2], b: [f64; 2]| (-((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)) / sigma2).exp();
+    let phi = |a: [f64; 2], b: [f64; 2]| {
+        (-((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)) / sigma2).exp()
+    };
     // Interpolation system Φ c = d (symmetric positive definite for distinct centres).
     let mut a = vec![0.0; m * m];
     for i in 0..m {
@@ -361,7 +373,8 @@ fn solve_dense(m: usize, a: &[f64], b: &[[f64; 2]]) -> Option<Vec<[f64; 2]>> {
     let mut a = a.to_vec();
     let mut b = b.to_vec();
     for col in 0..m {
-        let piv = (col..m).max_by(|&i, &j| a[i * m + col].abs().total_cmp(&a[j * m + col].abs()))?;
+        let piv =
+            (col..m).max_by(|&i, &j| a[i * m + col].abs().total_cmp(&a[j * m + col].abs()))?;
         if a[piv * m + col].abs() < 1e-12 {
             return None;
         }

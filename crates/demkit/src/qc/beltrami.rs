@@ -118,7 +118,10 @@ pub fn truncate(mu: Complex64, delta: f64) -> Complex64 {
 /// `N = Σ d_k w_k`, `D = Σ d̄_k w_k`, so `ν = −N / D`. ν is holomorphic in every `w_k`:
 /// `∂ν/∂w_k = −(d_k + ν d̄_k) / D` and `∂ν/∂w̄_k = 0`. A degenerate source or a collapsed image
 /// (`D = 0`) gives ν = 0 with zero derivatives.
-pub fn triangle_beltrami_derivatives(s: [[f64; 2]; 3], t: [[f64; 2]; 3]) -> (Complex64, [Complex64; 3]) {
+pub fn triangle_beltrami_derivatives(
+    s: [[f64; 2]; 3],
+    t: [[f64; 2]; 3],
+) -> (Complex64, [Complex64; 3]) {
     let q = s.map(|p| Complex64::new(p[0], p[1]));
     let w = t.map(|p| Complex64::new(p[0], p[1]));
     let d: [Complex64; 3] = std::array::from_fn(|k| q[(k + 2) % 3] - q[(k + 1) % 3]);
@@ -129,7 +132,10 @@ pub fn triangle_beltrami_derivatives(s: [[f64; 2]; 3], t: [[f64; 2]; 3]) -> (Com
         return (zero, [zero; 3]);
     }
     let nu = -n / den;
-    (nu, std::array::from_fn(|k| -(d[k] + nu * d[k].conj()) / den))
+    (
+        nu,
+        std::array::from_fn(|k| -(d[k] + nu * d[k].conj()) / den),
+    )
 }
 
 /// The cut-off 𝕀 of the DEQ paper (5.43), applied until it holds: `ν ← (1 − δ) ν` while
@@ -237,7 +243,10 @@ mod tests {
         let big = Complex64::new(0.9, 1.2);
         let c = cut_off(big, 0.1);
         assert!((c - big * 0.9f64.powi(4)).norm() < 1e-12);
-        assert_eq!(cut_off(Complex64::new(1.0, 0.0), 0.1), Complex64::new(0.9, 0.0));
+        assert_eq!(
+            cut_off(Complex64::new(1.0, 0.0), 0.1),
+            Complex64::new(0.9, 0.0)
+        );
         assert_eq!(cut_off(Complex64::new(f64::INFINITY, 0.0), 0.1).norm(), 0.0);
     }
 }
