@@ -158,11 +158,20 @@ mod tests {
     use crate::generate::annulus;
     use crate::methods::circle_flow::Circle;
 
-    #[test]
-    fn relaxation_decays_and_cuts_off() {
-        let m = annulus(0.4, 1.0, 4, 32).unwrap();
+    /// The operators a [`Relaxation`] borrows, on an annulus of `rings` × `sectors` cells.
+    fn relaxation_parts(
+        rings: usize,
+        sectors: usize,
+    ) -> (crate::TriMesh, VertexFaces, Vec<[f64; 3]>) {
+        let m = annulus(0.4, 1.0, rings, sectors).unwrap();
         let incidence = VertexFaces::new(m.n_vertices(), &m.faces);
         let weights = crate::fem::cotangent_weights(&m.positions, &m.faces);
+        (m, incidence, weights)
+    }
+
+    #[test]
+    fn relaxation_decays_and_cuts_off() {
+        let (m, incidence, weights) = relaxation_parts(4, 32);
         let r = Relaxation {
             weights: &weights,
             incidence: &incidence,
@@ -178,9 +187,7 @@ mod tests {
 
     #[test]
     fn smoothing_keeps_constants_and_damps_oscillations() {
-        let m = annulus(0.4, 1.0, 6, 48).unwrap();
-        let incidence = VertexFaces::new(m.n_vertices(), &m.faces);
-        let weights = crate::fem::cotangent_weights(&m.positions, &m.faces);
+        let (m, incidence, weights) = relaxation_parts(6, 48);
         let r = Relaxation {
             weights: &weights,
             incidence: &incidence,

@@ -142,13 +142,7 @@ impl<'a> DensityFlow<'a> {
     /// The flow on the planar map `x`, with the density diffused over time `tau` before its
     /// gradient is taken (A.10).
     pub fn evaluate(&self, x: &[[f64; 3]], tau: f64) -> Result<FlowState> {
-        let areas: Vec<f64> = face_areas(x, self.faces);
-        let rho_f: Vec<f64> = self
-            .population
-            .iter()
-            .zip(&areas)
-            .map(|(p, a)| p / a.max(f64::MIN_POSITIVE))
-            .collect();
+        let (areas, rho_f) = self.face_density(x);
         let rho_v = self.incidence.average(&rho_f);
         let factor = self.diffusion.factor(x, &areas, tau, &[])?;
         let rho = factor.diffuse(&rho_v);
@@ -191,15 +185,21 @@ impl Fit {
 }
 
 impl DensityFlow<'_> {
-    /// The [`Fit`] of the planar map `x`.
-    pub fn fit(&self, x: &[[f64; 3]]) -> Fit {
+    /// The face areas of the planar map `x` and the face density `ρ_F = P / A`.
+    fn face_density(&self, x: &[[f64; 3]]) -> (Vec<f64>, Vec<f64>) {
         let areas = face_areas(x, self.faces);
-        let rho_f: Vec<f64> = self
+        let rho_f = self
             .population
             .iter()
             .zip(&areas)
             .map(|(p, a)| p / a.max(f64::MIN_POSITIVE))
             .collect();
+        (areas, rho_f)
+    }
+
+    /// The [`Fit`] of the planar map `x`.
+    pub fn fit(&self, x: &[[f64; 3]]) -> Fit {
+        let (areas, rho_f) = self.face_density(x);
         let areas: Vec<f64> = areas.iter().map(|a| a.max(f64::MIN_POSITIVE)).collect();
         Fit {
             var: normalized_variance(&rho_f),
