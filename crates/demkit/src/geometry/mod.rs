@@ -59,6 +59,17 @@ pub fn triangle_normal(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
     if l > 0.0 { scale(n, 1.0 / l) } else { [0.0; 3] }
 }
 
+/// Number of faces of a planar map (x, y) whose signed area is not positive: the flipped or
+/// collapsed faces of a map that should be counter-clockwise.
+pub fn count_nonpositive(map: &[[f64; 3]], faces: &[[u32; 3]]) -> usize {
+    faces
+        .iter()
+        .filter(|f| {
+            !(signed_area_2d(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize]) > 0.0)
+        })
+        .count()
+}
+
 /// Cotangents of the three corner angles of triangle (a, b, c): entry `k` is the cotangent of
 /// the angle at corner `k`, `cot θ = (u·v)/|u×v|`. Degenerate corners give ±∞-free large values
 /// bounded by the caller's use; a zero-area triangle returns zeros.

@@ -2,7 +2,7 @@
 //! and the locally authalic map of Desbrun, Meyer and Alliez (Alg. 3, (4.14)–(4.17)), with
 //! the fallback to Tutte when the authalic map overlaps.
 
-use crate::geometry::{corner_cotangents, dot, signed_area_2d, sub};
+use crate::geometry::{corner_cotangents, count_nonpositive, dot, sub};
 use crate::linalg::solve_lu;
 use crate::{Error, Result};
 
@@ -97,16 +97,6 @@ pub fn fixed_boundary_map(
             None => [rhs[unknown[v]], rhs[n_free + unknown[v]], 0.0],
         })
         .collect())
-}
-
-/// Number of faces of a planar map whose signed area is not positive.
-pub fn count_nonpositive(map: &[[f64; 3]], faces: &[[u32; 3]]) -> usize {
-    faces
-        .iter()
-        .filter(|f| {
-            signed_area_2d(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize]) <= 0.0
-        })
-        .count()
 }
 
 /// The initial flattening of Alg. 2 / Alg. 3: the locally authalic map if requested and free of

@@ -9,11 +9,13 @@
 //! once; only the per-face edge weights change from one iteration to the next.
 
 mod cholesky;
+mod dense;
 mod lu;
 mod pattern;
 mod spd;
 
 pub use cholesky::{CachedCholesky, CholeskyFactor};
+pub use dense::solve_dense;
 pub use lu::solve_lu;
 pub use pattern::StiffnessPattern;
 pub use spd::{ElementPattern, SpdSolver, minimum_degree_order, packed_index};

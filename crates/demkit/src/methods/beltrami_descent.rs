@@ -5,7 +5,6 @@
 
 use super::circle_flow::CircleBoundary;
 use crate::fem::VertexFaces;
-use crate::geometry::signed_area_2d;
 use crate::qc::cut_off;
 use num_complex::Complex64;
 
@@ -26,14 +25,33 @@ pub(crate) const CUT_OFF_DELTA: f64 = 0.1;
 /// untouched.
 pub(crate) struct Relaxation<'a> {
     /// Cotangent weights of D⁰ per face corner (`½ cot θ_c`).
-    pub weights: &'a [[f64; 3]],
+    weights: &'a [[f64; 3]],
     /// Face incidence for the vertex averages.
-    pub incidence: &'a VertexFaces,
+    incidence: &'a VertexFaces,
     /// Faces.
-    pub faces: &'a [[u32; 3]],
+    faces: &'a [[u32; 3]],
+    /// `max_i Σ_j |L_ij|` over the off-diagonal weights, which bounds the stable β step.
+    max_diagonal: f64,
 }
 
-impl Relaxation<'_> {
+impl<'a> Relaxation<'a> {
+    /// The relaxation on D⁰ with cotangent `weights` (per face corner).
+    pub fn new(weights: &'a [[f64; 3]], incidence: &'a VertexFaces, faces: &'a [[u32; 3]]) -> Self {
+        let mut diag = vec![0.0f64; incidence.n_vertices()];
+        for (f, w) in faces.iter().zip(weights) {
+            for c in 0..3 {
+                diag[f[(c + 1) % 3] as usize] += w[c].abs();
+                diag[f[(c + 2) % 3] as usize] += w[c].abs();
+            }
+        }
+        Self {
+            weights,
+            incidence,
+            faces,
+            max_diagonal: diag.into_iter().fold(0.0, f64::max),
+        }
+    }
+
     /// `ν̃ = ν_pred − decay · ν₀` (DEQ: decay = h α), plus the β step `−smoothing · L ν̃` at
     /// the vertices (DEQ: smoothing = h β), then cut off by (5.43).
     pub fn apply(
@@ -57,22 +75,17 @@ impl Relaxation<'_> {
             let re: Vec<f64> = finite.iter().map(|z| z.re).collect();
             let im: Vec<f64> = finite.iter().map(|z| z.im).collect();
             let (vre, vim) = (self.incidence.average(&re), self.incidence.average(&im));
-            let n = vre.len();
-            let mut lap = vec![zero; n];
-            let mut diag = vec![0.0f64; n];
+            let mut lap = vec![zero; vre.len()];
             for (f, w) in self.faces.iter().zip(self.weights) {
                 for c in 0..3 {
                     let (a, b) = (f[(c + 1) % 3] as usize, f[(c + 2) % 3] as usize);
                     let d = Complex64::new(vre[a] - vre[b], vim[a] - vim[b]) * w[c];
                     lap[a] += d;
                     lap[b] -= d;
-                    diag[a] += w[c].abs();
-                    diag[b] += w[c].abs();
                 }
             }
-            let max_diag = diag.iter().cloned().fold(0.0, f64::max);
-            let s = if max_diag > 0.0 {
-                smoothing.min(0.5 / max_diag)
+            let s = if self.max_diagonal > 0.0 {
+                smoothing.min(0.5 / self.max_diagonal)
             } else {
                 0.0
             };
@@ -86,17 +99,6 @@ impl Relaxation<'_> {
         }
         nu.into_iter().map(|z| cut_off(z, CUT_OFF_DELTA)).collect()
     }
-}
-
-/// Number of faces of the planar map `x` with signed area ≤ 0.
-pub(crate) fn count_flips(x: &[[f64; 3]], faces: &[[u32; 3]]) -> usize {
-    faces
-        .iter()
-        .filter(|f| {
-            let [a, b, c] = f.map(|v| x[v as usize]);
-            !(signed_area_2d(a, b, c) > 0.0)
-        })
-        .count()
 }
 
 /// Moves boundary vertices along their circles by the tangential part of `dt · velocity`
@@ -172,11 +174,7 @@ mod tests {
     #[test]
     fn relaxation_decays_and_cuts_off() {
         let (m, incidence, weights) = relaxation_parts(4, 32);
-        let r = Relaxation {
-            weights: &weights,
-            incidence: &incidence,
-            faces: &m.faces,
-        };
+        let r = Relaxation::new(&weights, &incidence, &m.faces);
         let nu0 = vec![Complex64::new(0.5, 0.0); m.n_faces()];
         let mut pred = nu0.clone();
         pred[3] = Complex64::new(0.0, 2.0);
@@ -188,11 +186,7 @@ mod tests {
     #[test]
     fn smoothing_keeps_constants_and_damps_oscillations() {
         let (m, incidence, weights) = relaxation_parts(6, 48);
-        let r = Relaxation {
-            weights: &weights,
-            incidence: &incidence,
-            faces: &m.faces,
-        };
+        let r = Relaxation::new(&weights, &incidence, &m.faces);
         let c = vec![Complex64::new(0.2, -0.3); m.n_faces()];
         for z in r.apply(&c, &c, 0.0, 0.05) {
             assert!((z - Complex64::new(0.2, -0.3)).norm() < 1e-12);

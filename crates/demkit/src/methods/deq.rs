@@ -15,12 +15,13 @@
 //! with half the step. Without holes (a disk) GM has nothing to move and DEQ is BDED alone,
 //! as §6.1 prescribes for simply connected surfaces.
 
-use super::beltrami_descent::{Relaxation, count_flips, slide_boundary};
+use super::beltrami_descent::{Relaxation, slide_boundary};
 use super::circle_flow::{Circle, CircleBoundary, DensityFlow, Fit, FlowState};
 use super::dem::check_config_values;
 use super::geometry_modification::HoleTerms;
 use super::{MapResult, Progress, ProgressFn, StopReason};
 use crate::fem::VertexFaces;
+use crate::geometry::count_nonpositive;
 use crate::geometry::face_areas;
 use crate::init::circle_domain::{CircleDomain, circle_domain_map};
 use crate::init::disk_mobius::balance_areas;
@@ -159,7 +160,7 @@ pub fn run_from(
     check_config(config)?;
     circle_input(mesh, population, "deq")?;
     let t1 = Instant::now();
-    let mut state = Deq::new(mesh, population, domain, config, &[])?;
+    let state = Deq::new(mesh, population, domain, config, &[])?;
     let outcome = state.iterate(config, progress)?;
     Ok(MapResult {
         method: "deq",
@@ -213,7 +214,7 @@ impl<'a> Deq<'a> {
     ) -> Result<Self> {
         let n = mesh.n_vertices();
         let faces = &mesh.faces[..];
-        if domain.positions.len() != n || count_flips(&domain.positions, faces) > 0 {
+        if domain.positions.len() != n || count_nonpositive(&domain.positions, faces) > 0 {
             return Err(Error::Argument(
                 "the initial circle domain map must have one point per vertex and no flipped face"
                     .into(),
@@ -284,16 +285,14 @@ impl<'a> Deq<'a> {
     /// after an accepted BDED step h doubles again (up to δt). The stop: |E_n − E_{n−1}| < ε
     /// after a full step (tolerance), or Var(ρ̃) improving by less than 2% over 8 iterations
     /// or no acceptable step (stationary).
-    pub fn iterate(&mut self, config: &Config, progress: ProgressFn) -> Result<Outcome> {
-        let relax = Relaxation {
-            weights: &self.source_weights,
-            incidence: &self.incidence,
-            faces: self.faces,
-        };
+    pub fn iterate(&self, config: &Config, progress: ProgressFn) -> Result<Outcome> {
+        let relax = Relaxation::new(&self.source_weights, &self.incidence, self.faces);
         let terms = HoleTerms::new(
             self.faces,
             &self.source,
             &self.source_areas,
+            &self.source_weights,
+            &self.incidence,
             &self.boundary,
             self.alpha,
             self.beta,
@@ -306,7 +305,7 @@ impl<'a> Deq<'a> {
         let mut history = Vec::new();
         // The best map met (lowest Var(ρ̃)) is the result; the iteration may pass through
         // maps with a higher variance while it lowers the density error.
-        let mut best = (var, x.clone(), boundary.circles.clone());
+        let mut best = (var, x.clone());
         let mut best_history = vec![var];
         let mut notes = Vec::new();
         let mut stop_reason = StopReason::MaxIter;
@@ -335,7 +334,7 @@ impl<'a> Deq<'a> {
             let e = self.energy(&x, var);
             history.push(e);
             if var < best.0 {
-                best = (var, x.clone(), boundary.circles.clone());
+                best = (var, x.clone());
             }
             best_history.push(best.0);
             progress(Progress {
@@ -358,9 +357,7 @@ impl<'a> Deq<'a> {
             }
             h = (2.0 * step).min(self.dt);
         }
-        let (var, x, circles) = best;
-        boundary.circles = circles;
-        self.boundary = boundary;
+        let (var, x) = best;
         if stop_reason == StopReason::Stationary && iterations < config.max_iter {
             notes.push(format!(
                 "stopped after {iterations} iterations: the density no longer improved (Var(ρ̃) {var:.4})"
@@ -424,7 +421,7 @@ impl<'a> Deq<'a> {
                 }
             }
             let y = self.lbs.solve(&self.source, &relaxed, &target)?;
-            if count_flips(&y, self.faces) == 0 {
+            if count_nonpositive(&y, self.faces) == 0 {
                 let f = self.flow.fit(&y);
                 if f.var <= fit.var {
                     *x = y;
@@ -472,14 +469,14 @@ impl<'a> Deq<'a> {
             let y = self.limit_squeeze(x, moved(h), boundary);
             // A move that flips a triangle would leave it to the cut-off (5.43), which rebuilds
             // it almost flat; a shorter move is taken instead.
-            if count_flips(&y, self.faces) > 0 {
+            if count_nonpositive(&y, self.faces) > 0 {
                 h *= 0.5;
                 continue;
             }
             let predicted = beltrami_coefficient(&self.source, &y, self.faces);
             let nu = relax.apply(&predicted, &nu0, h * self.alpha, h * self.beta);
             let z = self.lbs.solve(&self.source, &nu, &y)?;
-            let flips = count_flips(&z, self.faces);
+            let flips = count_nonpositive(&z, self.faces);
             let f = self.flow.fit(&z);
             if flips == 0 && fit.improved_by(&f) {
                 *x = z;

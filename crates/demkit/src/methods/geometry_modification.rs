@@ -5,7 +5,8 @@
 //! `beltrami_descent` and `deq`).
 
 use super::circle_flow::CircleBoundary;
-use crate::geometry::corner_cotangents;
+use crate::fem::VertexFaces;
+use crate::linalg::solve_dense;
 use crate::qc::triangle_beltrami_derivatives;
 use num_complex::Complex64;
 
@@ -23,32 +24,33 @@ pub(crate) struct HoleTerms<'a> {
     source: &'a [[f64; 3]],
     /// Face areas on D⁰.
     source_areas: &'a [f64],
-    /// Corner cotangents on D⁰.
-    cot: Vec<[f64; 3]>,
+    /// Cotangent weights `½ cot θ_c` of D⁰ per face corner.
+    weights: &'a [[f64; 3]],
+    /// The faces around each vertex.
+    incidence: &'a VertexFaces,
     /// Faces with a vertex on each loop (index = loop).
     ring: Vec<Vec<u32>>,
-    /// Number of faces around each vertex.
-    degree: Vec<u32>,
     alpha: f64,
     beta: f64,
 }
 
 impl<'a> HoleTerms<'a> {
     /// Prepares the hole terms for the loops of `boundary` on the source domain D⁰.
+    #[allow(clippy::too_many_arguments)] // the fixed data of D⁰, each borrowed from the run
     pub fn new(
         faces: &'a [[u32; 3]],
         source: &'a [[f64; 3]],
         source_areas: &'a [f64],
+        weights: &'a [[f64; 3]],
+        incidence: &'a VertexFaces,
         boundary: &CircleBoundary,
         alpha: f64,
         beta: f64,
     ) -> Self {
         let mut ring = vec![Vec::new(); boundary.loops.len()];
-        let mut degree = vec![0u32; source.len()];
         for (f, face) in faces.iter().enumerate() {
             let mut seen = [u32::MAX; 3];
             for (k, &v) in face.iter().enumerate() {
-                degree[v as usize] += 1;
                 let l = boundary.loop_of[v as usize];
                 if l != u32::MAX && !seen.contains(&l) {
                     seen[k] = l;
@@ -56,17 +58,13 @@ impl<'a> HoleTerms<'a> {
                 }
             }
         }
-        let cot = faces
-            .iter()
-            .map(|f| corner_cotangents(f.map(|v| source[v as usize])))
-            .collect();
         Self {
             faces,
             source,
             source_areas,
-            cot,
+            weights,
+            incidence,
             ring,
-            degree,
             alpha,
             beta,
         }
@@ -163,32 +161,27 @@ impl<'a> HoleTerms<'a> {
         for (i, &f) in ring.iter().enumerate() {
             for &v in &self.faces[f as usize] {
                 let e = vertex_dnu.entry(v).or_insert([Complex64::new(0.0, 0.0); 4]);
-                let d = self.degree[v as usize] as f64;
+                let d = self.incidence.faces_of(v as usize).len() as f64;
                 for j in 0..4 {
                     e[j] += dnu[i][j] / d;
                 }
             }
         }
-        let mut vertex_nu: std::collections::HashMap<u32, Complex64> =
-            std::collections::HashMap::new();
-        for (f, face) in self.faces.iter().enumerate() {
-            for &v in face {
-                if vertex_dnu.contains_key(&v) {
-                    *vertex_nu.entry(v).or_insert(Complex64::new(0.0, 0.0)) +=
-                        nu[f] / self.degree[v as usize] as f64;
-                }
-            }
-        }
+        let vertex_nu = |v: u32| {
+            let fs = self.incidence.faces_of(v as usize);
+            fs.iter().map(|&f| nu[f as usize]).sum::<Complex64>() / fs.len() as f64
+        };
         let mut g3 = [0.0; 4];
         for &f in ring {
             let face = self.faces[f as usize];
             for corner in 0..3 {
                 let a = face[(corner + 1) % 3];
                 let b = face[(corner + 2) % 3];
-                let diff = vertex_nu[&a] - vertex_nu[&b];
+                let diff = vertex_nu(a) - vertex_nu(b);
                 let (da, db) = (vertex_dnu[&a], vertex_dnu[&b]);
                 for j in 0..4 {
-                    g3[j] += self.cot[f as usize][corner] * (diff.conj() * (da[j] - db[j])).re;
+                    g3[j] +=
+                        2.0 * self.weights[f as usize][corner] * (diff.conj() * (da[j] - db[j])).re;
                 }
             }
         }
@@ -227,34 +220,11 @@ pub(crate) fn fit_circle_motion(
             }
         }
     }
-    solve4(m, rhs).unwrap_or([0.0; 4])
-}
-
-/// Gaussian elimination with partial pivoting on a 4×4 system; `None` when singular.
-fn solve4(mut m: [[f64; 4]; 4], mut b: [f64; 4]) -> Option<[f64; 4]> {
-    let scale = m.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
-    for col in 0..4 {
-        let piv = (col..4).max_by(|&i, &j| m[i][col].abs().total_cmp(&m[j][col].abs()))?;
-        if m[piv][col].abs() <= 1e-12 * scale {
-            return None;
-        }
-        m.swap(col, piv);
-        b.swap(col, piv);
-        for row in col + 1..4 {
-            let f = m[row][col] / m[col][col];
-            let pivot_row = m[col];
-            for (target, p) in m[row][col..].iter_mut().zip(&pivot_row[col..]) {
-                *target -= f * p;
-            }
-            b[row] -= f * b[col];
-        }
+    let a: Vec<f64> = m.iter().flatten().copied().collect();
+    match solve_dense(4, &a, &rhs, 1) {
+        Some(x) => [x[0], x[1], x[2], x[3]],
+        None => [0.0; 4],
     }
-    let mut out = [0.0; 4];
-    for row in (0..4).rev() {
-        let s: f64 = (row + 1..4).map(|k| m[row][k] * out[k]).sum();
-        out[row] = (b[row] - s) / m[row][row];
-    }
-    Some(out)
 }
 
 #[cfg(test)]
@@ -330,7 +300,11 @@ mod tests {
         let b = hole_boundary(&m, &holes);
         let source = m.positions.clone();
         let areas = face_areas(&source, &m.faces);
-        let terms = HoleTerms::new(&m.faces, &source, &areas, &b, 1.0, 1.0);
+        let weights = crate::fem::cotangent_weights(&source, &m.faces);
+        let incidence = VertexFaces::new(m.n_vertices(), &m.faces);
+        let terms = HoleTerms::new(
+            &m.faces, &source, &areas, &weights, &incidence, &b, 1.0, 1.0,
+        );
         // A map with a non-trivial ν: a shear of the interior, the hole moved off-centre.
         let moved = |q: [f64; 4]| -> Vec<[f64; 3]> {
             let (c0, r0) = (b.circles[1].center, b.circles[1].radius);
@@ -376,7 +350,7 @@ mod tests {
                     (0..3)
                         .map(|c| {
                             let (a, bb) = (face[(c + 1) % 3] as usize, face[(c + 2) % 3] as usize);
-                            0.5 * terms.cot[f as usize][c] * (vnu[a] - vnu[bb]).norm_sqr()
+                            weights[f as usize][c] * (vnu[a] - vnu[bb]).norm_sqr()
                         })
                         .sum::<f64>()
                 })

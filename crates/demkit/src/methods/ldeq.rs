@@ -18,9 +18,11 @@
 //! reconstruction flips a triangle or raises Var(ρ̃) by more than half. So a target far from
 //! the landmark's conformal image is reached in several bijective steps instead of one jump.
 
-use super::beltrami_descent::{Relaxation, count_flips, slide_boundary};
+use super::beltrami_descent::{Relaxation, slide_boundary};
 use super::deq::{self, Deq, circle_input};
 use super::{MapResult, Progress, ProgressFn, StopReason};
+use crate::geometry::count_nonpositive;
+use crate::linalg::solve_dense;
 use crate::qc::{beltrami_coefficient, cut_off};
 use crate::{Error, Result, TriMesh};
 use num_complex::Complex64;
@@ -53,29 +55,16 @@ fn check_landmarks(
     loops: &[Vec<u32>],
     landmarks: &[(usize, [f64; 3])],
 ) -> Result<()> {
-    if landmarks.is_empty() {
-        return Err(Error::Landmarks("ldeq needs at least one landmark".into()));
-    }
+    super::check_landmark_vertices(landmarks, mesh.n_vertices(), "ldeq")?;
     let mut on_boundary = vec![false; mesh.n_vertices()];
     for &v in loops.iter().flatten() {
         on_boundary[v as usize] = true;
     }
-    let mut seen = vec![false; mesh.n_vertices()];
     for (i, &(v, q)) in landmarks.iter().enumerate() {
-        if v >= mesh.n_vertices() {
-            return Err(Error::Landmarks(format!(
-                "landmark {i}: vertex {v} is out of range (mesh has {} vertices)",
-                mesh.n_vertices()
-            )));
-        }
+        let i = i + 1;
         if on_boundary[v] {
             return Err(Error::Landmarks(format!(
                 "landmark {i}: vertex {v} is on the boundary; ldeq landmarks must be interior vertices"
-            )));
-        }
-        if std::mem::replace(&mut seen[v], true) {
-            return Err(Error::Landmarks(format!(
-                "landmark {i}: vertex {v} appears twice"
             )));
         }
         if !(q[0].hypot(q[1]) < 1.0) || q[2] != 0.0 {
@@ -114,7 +103,7 @@ pub fn run(
     let mut state = Deq::new(mesh, population, &domain, &config.deq, &vertices)?;
     state.flow.area_weighted_gradient = true;
     let targets: Vec<[f64; 2]> = landmarks.iter().map(|l| [l.1[0], l.1[1]]).collect();
-    let outcome = iterate(&mut state, &vertices, &targets, config, progress)?;
+    let outcome = iterate(&state, &vertices, &targets, config, progress)?;
     Ok(MapResult {
         method: "ldeq",
         positions: outcome.positions,
@@ -132,7 +121,7 @@ pub fn run(
 /// Algorithm 5.4 from D⁰ (the state's source), with the landmark `vertices` travelling to
 /// `targets`.
 fn iterate(
-    deq: &mut Deq,
+    deq: &Deq,
     vertices: &[usize],
     targets: &[[f64; 2]],
     config: &Config,
@@ -140,15 +129,13 @@ fn iterate(
 ) -> Result<deq::Outcome> {
     let c = &config.deq;
     let (alpha, beta, eta, dt) = (c.alpha, c.beta, config.eta, c.dt);
-    let relax = Relaxation {
-        weights: &deq.source_weights,
-        incidence: &deq.incidence,
-        faces: deq.faces,
-    };
+    let relax = Relaxation::new(&deq.source_weights, &deq.incidence, deq.faces);
     let terms = super::geometry_modification::HoleTerms::new(
         deq.faces,
         &deq.source,
         &deq.source_areas,
+        &deq.source_weights,
+        &deq.incidence,
         &deq.boundary,
         alpha,
         beta,
@@ -259,7 +246,7 @@ fn iterate(
                 f * beta / (alpha + eta),
             );
             let g = deq.lbs.solve(&deq.source, &nu_new, &y)?;
-            if count_flips(&g, deq.faces) == 0 {
+            if count_nonpositive(&g, deq.faces) == 0 {
                 let f = deq.flow.fit(&g);
                 // On the way the variance may grow a little (the landmarks pull against the
                 // density), never by more than half at a step.
@@ -305,7 +292,6 @@ fn iterate(
             stop_reason = StopReason::Stationary;
         }
     }
-    deq.boundary = boundary;
     Ok(deq::Outcome {
         positions: x,
         iterations,
@@ -360,7 +346,8 @@ fn landmark_correction(
         .zip(wanted)
         .map(|(&v, w)| [w[0] - y[v][0], w[1] - y[v][1]])
         .collect();
-    let Some(coef) = solve_dense(m, &a, &missing) else {
+    let rhs: Vec<f64> = missing.iter().flatten().copied().collect();
+    let Some(coef) = solve_dense(m, &a, &rhs, 2) else {
         for (&v, w) in vertices.iter().zip(wanted) {
             y[v] = [w[0], w[1], 0.0];
         }
@@ -371,7 +358,7 @@ fn landmark_correction(
             continue;
         }
         let z = [x[v][0], x[v][1]];
-        for (c, k) in centres.iter().zip(&coef) {
+        for (c, k) in centres.iter().zip(coef.chunks_exact(2)) {
             let f = phi(z, *c);
             p[0] += f * k[0];
             p[1] += f * k[1];
@@ -380,42 +367,6 @@ fn landmark_correction(
     for (&v, w) in vertices.iter().zip(wanted) {
         y[v] = [w[0], w[1], 0.0];
     }
-}
-
-/// Solves the dense `m × m` system `a c = b` for two right-hand sides (Gaussian elimination
-/// with partial pivoting); `None` when singular.
-fn solve_dense(m: usize, a: &[f64], b: &[[f64; 2]]) -> Option<Vec<[f64; 2]>> {
-    let mut a = a.to_vec();
-    let mut b = b.to_vec();
-    for col in 0..m {
-        let piv =
-            (col..m).max_by(|&i, &j| a[i * m + col].abs().total_cmp(&a[j * m + col].abs()))?;
-        if a[piv * m + col].abs() < 1e-12 {
-            return None;
-        }
-        for k in 0..m {
-            a.swap(col * m + k, piv * m + k);
-        }
-        b.swap(col, piv);
-        for row in col + 1..m {
-            let f = a[row * m + col] / a[col * m + col];
-            for k in col..m {
-                a[row * m + k] -= f * a[col * m + k];
-            }
-            b[row][0] -= f * b[col][0];
-            b[row][1] -= f * b[col][1];
-        }
-    }
-    let mut out = vec![[0.0; 2]; m];
-    for row in (0..m).rev() {
-        let mut s = b[row];
-        for k in row + 1..m {
-            s[0] -= a[row * m + k] * out[k][0];
-            s[1] -= a[row * m + k] * out[k][1];
-        }
-        out[row] = [s[0] / a[row * m + row], s[1] / a[row * m + row]];
-    }
-    Some(out)
 }
 
 #[cfg(test)]
@@ -441,8 +392,8 @@ mod tests {
         let config = Config::default();
         let mut state = Deq::new(&mesh, &pop, &domain, &config.deq, &landmarks).unwrap();
         state.flow.area_weighted_gradient = true;
-        let out = iterate(&mut state, &landmarks, &targets, &config, &mut |_| {}).unwrap();
-        assert_eq!(count_flips(&out.positions, &mesh.faces), 0);
+        let out = iterate(&state, &landmarks, &targets, &config, &mut |_| {}).unwrap();
+        assert_eq!(count_nonpositive(&out.positions, &mesh.faces), 0);
         for (&v, q) in landmarks.iter().zip(&targets) {
             let p = out.positions[v];
             assert!((p[0] - q[0]).hypot(p[1] - q[1]) < 1e-12);

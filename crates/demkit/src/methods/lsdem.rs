@@ -75,18 +75,11 @@ impl Default for Config {
 /// Largest distance of a landmark target from the unit sphere.
 const TARGET_TOLERANCE: f64 = 1e-4;
 
-/// Checks the landmarks: indices in range, each vertex once, targets on the unit sphere.
+/// Checks the landmarks: indices in range, each vertex once ([`super::check_landmark_vertices`]),
+/// targets on the unit sphere.
 pub fn check_landmarks(landmarks: &[(usize, [f64; 3])], n_vertices: usize) -> Result<()> {
-    if landmarks.is_empty() {
-        return Err(Error::Landmarks("lsdem needs at least one landmark".into()));
-    }
+    super::check_landmark_vertices(landmarks, n_vertices, "lsdem")?;
     for (k, &(v, q)) in landmarks.iter().enumerate() {
-        if v >= n_vertices {
-            return Err(Error::Landmarks(format!(
-                "landmark {}: vertex {v} is out of range (mesh has {n_vertices} vertices)",
-                k + 1
-            )));
-        }
         let r = norm(q);
         if !((r - 1.0).abs() <= TARGET_TOLERANCE) {
             return Err(Error::Landmarks(format!(

@@ -18,6 +18,37 @@ mod sphere_input;
 mod sphere_overlap;
 pub mod spherical_conformal;
 
+/// Checks what every landmark method needs of its landmarks: at least one, vertex indices in
+/// range, each vertex once (landmarks are numbered from 1 in the messages).
+pub(crate) fn check_landmark_vertices(
+    landmarks: &[(usize, [f64; 3])],
+    n_vertices: usize,
+    method: &str,
+) -> crate::Result<()> {
+    use crate::Error;
+    if landmarks.is_empty() {
+        return Err(Error::Landmarks(format!(
+            "{method} needs at least one landmark"
+        )));
+    }
+    let mut seen = vec![false; n_vertices];
+    for (k, &(v, _)) in landmarks.iter().enumerate() {
+        if v >= n_vertices {
+            return Err(Error::Landmarks(format!(
+                "landmark {}: vertex {v} is out of range (mesh has {n_vertices} vertices)",
+                k + 1
+            )));
+        }
+        if std::mem::replace(&mut seen[v], true) {
+            return Err(Error::Landmarks(format!(
+                "landmark {}: vertex {v} appears twice",
+                k + 1
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Why an iteration stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StopReason {
