@@ -5,6 +5,7 @@
 mod plane;
 pub mod rotation;
 pub mod sphere;
+pub mod torus;
 mod vec3;
 
 pub use plane::{PlaneFrame, planar_frame};
