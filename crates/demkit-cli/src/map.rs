@@ -8,7 +8,7 @@ use demkit::TriMesh;
 use demkit::init::shape::Shape;
 use demkit::mesh::topology::topology;
 use demkit::methods::{
-    circle_conformal, dem, dem_shape, deq, ldeq, lsdem, sdem, spherical_conformal,
+    circle_conformal, dem, dem_shape, deq, ldeq, lsdem, sdem, spherical_conformal, tdem,
 };
 use demkit::metrics::{Domain, compute};
 use demkit::population::{PopulationSpec, face_populations};
@@ -119,16 +119,38 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             let l = landmarks.as_deref().unwrap_or(&[]);
             lsdem::run(&mesh, &population, l, &c, &mut progress)
         }
-        other => {
+        Method::Tdem => {
+            let torus = match &a.torus {
+                Some(s) => parse_torus(s)?,
+                None => {
+                    bar.finish();
+                    return Err(Failure::input(
+                        "--method tdem (for genus-one closed surfaces) needs the target torus: --torus R:r with R > r > 0",
+                    ));
+                }
+            };
+            let mut c = tdem::Config::default();
+            apply_common(&mut c.epsilon, &mut c.max_iter, &mut c.dt, a);
+            tdem::run(&mesh, &population, &torus, &c, &mut progress)
+        }
+        Method::Auto => {
             bar.finish();
-            return Err(not_implemented(other, a.method == Method::Auto));
+            return Err(Failure {
+                code: 1,
+                message: "internal error: no method was chosen".into(),
+            });
         }
     };
     bar.finish();
     let result = result?;
-    let domain = match method {
-        Method::Sdem | Method::Lsdem | Method::SphericalConformal => Domain::Sphere,
-        _ => Domain::Plane,
+    let domain = match (&result.flat_torus, &a.torus) {
+        (Some(flat), Some(t)) => Domain::Torus {
+            flipped: flat.count_flipped(&mesh.faces, parse_torus(t)?.periods()),
+        },
+        _ => match method {
+            Method::Sdem | Method::Lsdem | Method::SphericalConformal => Domain::Sphere,
+            _ => Domain::Plane,
+        },
     };
     let out_mesh = TriMesh::new(result.positions.clone(), mesh.faces.clone());
     demkit::io::write_mesh(&a.out, &out_mesh)?;
@@ -225,28 +247,21 @@ fn resolve_method(a: &MapArgs, boundaries: usize, genus: i64) -> Result<Method, 
     })
 }
 
-fn not_implemented(m: Method, chosen_by_topology: bool) -> Failure {
-    let what = match m {
-        Method::Sdem | Method::Lsdem | Method::SphericalConformal => "genus-0 closed surfaces",
-        Method::Deq | Method::Ldeq | Method::CircleConformal => {
-            "surfaces with holes (and disks with landmarks)"
-        }
-        Method::Tdem => "genus-one closed surfaces",
-        _ => "this input",
+/// `--torus R:r`: the target torus of tdem.
+fn parse_torus(s: &str) -> Result<demkit::geometry::torus::Torus, Failure> {
+    let parts: Vec<&str> = s.split(':').collect();
+    let bad = || {
+        Failure::input(format!(
+            "--torus must be R:r with numbers R > r > 0 (e.g. 3:1), got '{s}'"
+        ))
     };
-    if chosen_by_topology {
-        Failure::input(format!(
-            "this mesh needs --method {} (for {what}), which this version of demkit does not implement yet; \
-             disks are mapped with --method dem or dem-shape",
-            m.name()
-        ))
-    } else {
-        Failure::input(format!(
-            "--method {} (for {what}) is not implemented in this version of demkit; \
-             disks are mapped with --method dem or dem-shape",
-            m.name()
-        ))
+    if parts.len() != 2 {
+        return Err(bad());
     }
+    let major: f64 = parts[0].trim().parse().map_err(|_| bad())?;
+    let minor: f64 = parts[1].trim().parse().map_err(|_| bad())?;
+    demkit::geometry::torus::Torus::new(major, minor)
+        .map_err(|e| Failure::input(format!("--torus: {e}")))
 }
 
 fn warn_unused(a: &MapArgs, m: Method) {
@@ -262,7 +277,7 @@ fn warn_unused(a: &MapArgs, m: Method) {
                 ),
             "--landmarks",
         ),
-        (a.torus.is_some(), "--torus"),
+        (a.torus.is_some() && m != Method::Tdem, "--torus"),
         (
             a.alpha.is_some() && !matches!(m, Method::Lsdem | Method::Deq | Method::Ldeq),
             "--alpha",
@@ -294,6 +309,7 @@ fn warn_unused(a: &MapArgs, m: Method) {
                 | Method::Deq
                 | Method::Ldeq
                 | Method::CircleConformal
+                | Method::Tdem
         )
     {
         eprintln!(

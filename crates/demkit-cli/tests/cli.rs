@@ -763,15 +763,6 @@ fn values_starting_with_a_minus_are_values_not_flags() {
 }
 
 #[test]
-fn explicitly_requested_unimplemented_method_is_named_as_such() {
-    let s = Scratch::new("explicit");
-    s.generate(&["peaks", "--n", "8", "--out", "p.obj"]);
-    let line =
-        map(&s, "p.obj", &["--method", "tdem"]).input_error_naming(&["tdem", "not implemented"]);
-    assert!(!line.contains("this mesh needs"), "{line}");
-}
-
-#[test]
 fn tiny_populations_are_equalized_like_any_other_scale() {
     let s = Scratch::new("tiny");
     s.generate(&["peaks", "--n", "8", "--out", "p.obj"]);

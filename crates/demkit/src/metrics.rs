@@ -17,6 +17,13 @@ pub enum Domain {
     /// A map onto the unit sphere: a face is flipped when ((b−a)×(c−a))·(a+b+c) ≤ 0; areas are
     /// those of the flat triangles between the mapped corners.
     Sphere,
+    /// A map onto a torus: areas are those of the flat triangles between the mapped corners;
+    /// flips are counted on the map's periodic planar image by the method, which passes the
+    /// count here.
+    Torus {
+        /// Faces whose periodic planar image has signed area ≤ 0.
+        flipped: usize,
+    },
 }
 
 /// The report metrics (DESIGN.md, "Report"); serialized with exactly these field names.
@@ -64,6 +71,7 @@ pub fn map_areas(map: &[[f64; 3]], faces: &[[u32; 3]], domain: Domain) -> (Vec<f
                 .count();
             (s.iter().map(|a| a.abs()).collect(), flipped)
         }
+        Domain::Torus { flipped } => (face_areas(map, faces), flipped),
         Domain::Sphere => {
             let flipped = faces
                 .iter()
@@ -161,7 +169,9 @@ pub fn compute(
     ratio.sort_by(f64::total_cmp);
     let mu = match domain {
         Domain::Plane => beltrami_coefficient_surface(&input.positions, final_map, faces),
-        Domain::Sphere => beltrami_coefficient_surfaces(&input.positions, final_map, faces),
+        Domain::Sphere | Domain::Torus { .. } => {
+            beltrami_coefficient_surfaces(&input.positions, final_map, faces)
+        }
     };
     let abs_mu: Vec<f64> = mu.iter().map(|m| m.norm()).collect();
     let landmark_error = landmarks.map(|l| {

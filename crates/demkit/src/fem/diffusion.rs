@@ -82,12 +82,39 @@ impl DiffusionOperator {
             *w = w.map(|c| c * t);
         }
         let mass = lumped_mass(positions.len(), &self.faces, areas);
+        self.assemble_and_factor(&weights, mass, extra_diagonal)
+    }
+
+    /// Factors `A + t L + D` from the cotangent weights of every face (per corner, as
+    /// [`cotangent_weights`](super::cotangent_weights) gives them) and the lumped mass `A`:
+    /// for meshes whose faces are not drawn from one position per vertex (the flat torus).
+    pub fn factor_weights(
+        &self,
+        weights: &[[f64; 3]],
+        mass: Vec<f64>,
+        t: f64,
+        extra_diagonal: &[(usize, f64)],
+    ) -> Result<DiffusionFactor<'_>> {
+        let mut scaled = self.weights.borrow_mut();
+        scaled.clear();
+        scaled.extend(weights.iter().map(|w| w.map(|c| c * t)));
+        self.assemble_and_factor(&scaled, mass, extra_diagonal)
+    }
+
+    /// Assembles `A + L_w + D` from already scaled weights and factors it.
+    fn assemble_and_factor(
+        &self,
+        scaled_weights: &[[f64; 3]],
+        mass: Vec<f64>,
+        extra_diagonal: &[(usize, f64)],
+    ) -> Result<DiffusionFactor<'_>> {
         let mut diagonal = mass.clone();
         for &(v, d) in extra_diagonal {
             diagonal[v] += d;
         }
         let mut values = self.values.borrow_mut();
-        self.pattern.assemble(&weights, &diagonal, &mut values);
+        self.pattern
+            .assemble(scaled_weights, &diagonal, &mut values);
         let factor = self.cholesky.factor(&self.pattern, &values)?;
         Ok(DiffusionFactor { factor, mass })
     }

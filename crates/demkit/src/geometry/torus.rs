@@ -148,7 +148,13 @@ mod tests {
     #[test]
     fn radii_must_satisfy_r_below_major() {
         assert!(Torus::new(3.0, 1.0).is_ok());
-        for (a, b) in [(1.0, 2.0), (1.0, 1.0), (2.0, 0.0), (f64::NAN, 1.0), (2.0, -1.0)] {
+        for (a, b) in [
+            (1.0, 2.0),
+            (1.0, 1.0),
+            (2.0, 0.0),
+            (f64::NAN, 1.0),
+            (2.0, -1.0),
+        ] {
             assert!(Torus::new(a, b).is_err(), "{a} {b}");
         }
     }
@@ -159,7 +165,10 @@ mod tests {
         let [a, b] = t.periods();
         for i in 0..7 {
             for j in 0..5 {
-                let uv = [a * (i as f64 + 0.3) / 7.0, -b / 2.0 + b * (j as f64 + 0.1) / 5.0];
+                let uv = [
+                    a * (i as f64 + 0.3) / 7.0,
+                    -b / 2.0 + b * (j as f64 + 0.1) / 5.0,
+                ];
                 let p = t.project(uv);
                 assert!(t.distance(p) < 1e-14);
                 let back = t.unproject(p);
@@ -185,7 +194,11 @@ mod tests {
         let t = Torus::new(2.0, 1.0).unwrap();
         let [a, b] = t.periods();
         // A triangle straddling u = 0 and v = ±πr.
-        let uv = [[a - 0.1, b / 2.0 - 0.05], [0.1, b / 2.0 - 0.05], [0.0, -b / 2.0 + 0.1]];
+        let uv = [
+            [a - 0.1, b / 2.0 - 0.05],
+            [0.1, b / 2.0 - 0.05],
+            [0.0, -b / 2.0 + 0.1],
+        ];
         let positions: Vec<[f64; 3]> = uv.iter().map(|&p| t.project(p)).collect();
         let map = FlatTorusMap::from_surface(&positions, &[[0, 1, 2]], &t);
         assert_eq!(map.offsets[0], [[0, 0], [1, 0], [1, 1]]);

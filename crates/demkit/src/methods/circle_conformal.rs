@@ -14,6 +14,7 @@ pub fn run(mesh: &TriMesh, population: &[f64]) -> Result<MapResult> {
     let t0 = Instant::now();
     let domain = super::deq::initial_circle_domain(mesh, &loops, population)?;
     Ok(MapResult {
+        flat_torus: None,
         method: "circle-conformal",
         positions: domain.positions.clone(),
         initial: domain.positions,

@@ -140,6 +140,7 @@ pub fn run(
         })
         .collect();
     Ok(MapResult {
+        flat_torus: None,
         method: "dem",
         positions,
         initial,

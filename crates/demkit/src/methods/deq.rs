@@ -163,6 +163,7 @@ pub fn run_from(
     let state = Deq::new(mesh, population, domain, config, &[])?;
     let outcome = state.iterate(config, progress)?;
     Ok(MapResult {
+        flat_torus: None,
         method: "deq",
         positions: outcome.positions,
         initial: domain.positions.clone(),

@@ -105,6 +105,7 @@ pub fn run(
     let targets: Vec<[f64; 2]> = landmarks.iter().map(|l| [l.1[0], l.1[1]]).collect();
     let outcome = iterate(&state, &vertices, &targets, config, progress)?;
     Ok(MapResult {
+        flat_torus: None,
         method: "ldeq",
         positions: outcome.positions,
         initial: domain.positions,

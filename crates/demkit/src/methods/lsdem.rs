@@ -222,6 +222,7 @@ pub fn run(
     let r = optimal_rotation(&current, &targets);
     let positions = x.into_iter().map(|p| normalize(mat_vec(&r, p))).collect();
     Ok(MapResult {
+        flat_torus: None,
         method: "lsdem",
         positions,
         initial,

@@ -17,6 +17,7 @@ mod sphere_density;
 mod sphere_input;
 mod sphere_overlap;
 pub mod spherical_conformal;
+pub mod tdem;
 
 /// Checks what every landmark method needs of its landmarks: at least one, vertex indices in
 /// range, each vertex once (landmarks are numbered from 1 in the messages).
@@ -106,6 +107,9 @@ pub struct MapResult {
     pub time_map: f64,
     /// Remarks worth telling the user (e.g. an initial map fell back to Tutte).
     pub notes: Vec<String>,
+    /// For maps onto a torus: the final map on the flat torus (points and lattice
+    /// translations), from which `positions` is projected; flips are counted on it.
+    pub flat_torus: Option<crate::geometry::torus::FlatTorusMap>,
 }
 
 /// A progress callback; the CLI draws a bar with it, tests pass `&mut |_| {}`.

@@ -162,6 +162,7 @@ pub fn run_from(
     }
     let positions = best.1.into_iter().map(normalize).collect();
     Ok(MapResult {
+        flat_torus: None,
         method: "sdem",
         positions,
         initial,

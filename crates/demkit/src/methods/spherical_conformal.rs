@@ -15,6 +15,7 @@ pub fn run(mesh: &TriMesh, population: &[f64]) -> Result<MapResult> {
     let mut notes = Vec::new();
     let map = initial_sphere_map(mesh, population, &mut notes)?;
     Ok(MapResult {
+        flat_torus: None,
         method: "spherical-conformal",
         positions: map.clone(),
         initial: map,

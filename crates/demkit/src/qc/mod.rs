@@ -3,9 +3,11 @@
 
 mod beltrami;
 mod lbs;
+mod periodic_lbs;
 
 pub use beltrami::{
     beltrami_coefficient, beltrami_coefficient_surface, beltrami_coefficient_surfaces, cut_off,
     triangle_beltrami, triangle_beltrami_derivatives, truncate,
 };
 pub use lbs::{LinearBeltramiSolver, generalized_laplacian_weights};
+pub use periodic_lbs::PeriodicBeltramiSolver;
