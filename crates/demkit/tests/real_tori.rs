@@ -1,0 +1,94 @@
+//! TDEM on the paper's example tori (from `DEMKIT_DATA`, default `../shared/data` beside the
+//! checkout), with their populations and radii. Ignored by default: run with
+//! `cargo test --release -- --ignored`.
+//!
+//! Each asserts the TDEM issue's acceptance figures: converged at the default ε, no flipped
+//! triangle, `density_var_final` ≤ 1e-4, at most 1 s including the initial map, the output on
+//! the torus and the same faces as the input.
+
+use demkit::geometry::torus::Torus;
+use demkit::methods::tdem;
+use demkit::metrics::{Domain, compute};
+use demkit::population::{PopulationSpec, face_populations};
+use std::time::Instant;
+
+mod common;
+use common::{SERIAL, data};
+
+/// The radii of `genus1/NAME.torus.txt` (lines `R value` and `r value`).
+fn radii(name: &str) -> Torus {
+    let path = data(&format!("genus1/{name}.torus.txt"));
+    let text = std::fs::read_to_string(&path).unwrap();
+    let value = |key: &str| -> f64 {
+        text.lines()
+            .filter_map(|l| l.split_once(' '))
+            .find(|(k, _)| k.trim() == key)
+            .map(|(_, v)| v.trim().parse().unwrap())
+            .unwrap()
+    };
+    Torus::new(value("R"), value("r")).unwrap()
+}
+
+fn check(name: &str) {
+    let _lock = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let mesh = demkit::io::read_mesh(&data(&format!("genus1/{name}.obj"))).unwrap();
+    let (mesh, _) = demkit::mesh::validate::validate(mesh).unwrap();
+    let spec = PopulationSpec::parse(
+        data(&format!("genus1/{name}.population.txt"))
+            .to_str()
+            .unwrap(),
+    );
+    let population = face_populations(&spec, &mesh).unwrap();
+    let torus = radii(name);
+    let t0 = Instant::now();
+    let r = tdem::run(&mesh, &population, &torus, &tdem::Config::default(), &mut |_| {})
+        .unwrap();
+    let elapsed = t0.elapsed().as_secs_f64();
+    let flat = r.flat_torus.as_ref().unwrap();
+    let flipped = flat.count_flipped(&mesh.faces, torus.periods());
+    let m = compute(
+        &mesh,
+        &population,
+        &r.initial,
+        &r.positions,
+        Domain::Torus { flipped },
+        None,
+    );
+    eprintln!(
+        "{name}: {} iterations ({}), density_var {:.3e} -> {:.3e}, {flipped} flipped, {elapsed:.3} s",
+        r.iterations,
+        r.stop_reason.as_str(),
+        m.density_var_initial,
+        m.density_var_final,
+    );
+    assert!(r.converged);
+    assert_eq!(m.flipped_triangles, 0);
+    assert!(m.density_var_final <= 1e-4, "{}", m.density_var_final);
+    assert_eq!(r.positions.len(), mesh.n_vertices());
+    for p in &r.positions {
+        assert!(torus.distance(*p) <= 1e-9);
+    }
+    if !cfg!(debug_assertions) {
+        assert!(elapsed <= 1.0, "{elapsed:.2} s > 1 s");
+    }
+}
+
+macro_rules! torus_tests {
+    ($($test:ident: $name:expr,)*) => {$(
+        #[test]
+        #[ignore = "needs real meshes (DEMKIT_DATA)"]
+        fn $test() {
+            check($name);
+        }
+    )*};
+}
+
+torus_tests! {
+    torus_1: "torus_1",
+    torus_2: "torus_2",
+    torus_3: "torus_3",
+    torus_4: "torus_4",
+    torus_5_1: "torus_5_1",
+    torus_r2: "torus_R2",
+    torus_r10: "torus_R10",
+}
