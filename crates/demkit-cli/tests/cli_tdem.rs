@@ -82,3 +82,24 @@ fn a_sphere_or_a_disk_is_not_a_torus() {
         .input_error_naming(&["tdem", "genus one"]);
     }
 }
+
+#[test]
+fn a_surface_off_the_target_torus_is_parameterized_onto_it() {
+    // Alg. 2: the generated (3, 1) torus mapped area-preservingly onto the (2, 1) torus through
+    // demkit's own cut and periodic harmonic map.
+    let s = Scratch::new("tdem_param");
+    torus(&s);
+    s.ok(&[
+        "map", "t.obj", "--out", "o.obj", "--torus", "2:1", "--report", "r.json", "--quiet",
+    ]);
+    let r = json_file(&s.path("r.json"));
+    assert_eq!(r["converged"], true);
+    let m = &r["metrics"];
+    assert_eq!(m["flipped_triangles"], 0);
+    assert!(m["density_error_mean"].as_f64().unwrap() < 0.05);
+    let (output, _) = parse_obj(&s.read("o.obj"));
+    for p in &output.positions {
+        let d = ((p[0].hypot(p[1]) - 2.0).hypot(p[2]) - 1.0).abs();
+        assert!(d < 1e-9, "{p:?} is {d} off the (2, 1) torus");
+    }
+}

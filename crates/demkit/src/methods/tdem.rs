@@ -101,10 +101,7 @@ pub fn initial_map(mesh: &TriMesh, torus: &Torus) -> Result<FlatTorusMap> {
             return Ok(map);
         }
     }
-    Err(Error::Argument(format!(
-        "the mesh is not on the torus R = {}, r = {} (largest distance {far:.3e})",
-        torus.major, torus.minor
-    )))
+    crate::init::genus_one::flat_torus_map(mesh, torus)
 }
 
 /// Computes the TDEM map of the genus-one `mesh` onto `torus` with one `population` value per
@@ -208,7 +205,7 @@ pub fn run_from(
             .zip(&rho)
             .map(|(g, r)| [-h * g[0] / r, -h * g[1] / r])
             .collect();
-        let (moved, how) = move_without_folds(&map, &step, faces, period, &source, &lbs)?;
+        let (moved, fraction, how) = move_without_folds(&map, &step, faces, period, &source, &lbs)?;
         if let Some(note) = how.filter(|n| !notes.contains(n)) {
             notes.push(note);
         }
@@ -217,7 +214,9 @@ pub fn run_from(
             map = moved;
             m = next;
             if config.dt.is_none() {
-                h = (2.0 * h).min(longest);
+                // A move shortened to a fraction of the step says the step was that much too
+                // long: the next one starts from twice the distance actually moved.
+                h = (2.0 * fraction * h).min(longest);
             }
         } else if config.dt.is_none() {
             h *= 0.5;
@@ -261,8 +260,9 @@ pub fn run_from(
 /// The move `map + step` without folded faces: as it is if nothing folds; else rebuilt by the
 /// periodic LBS from the move's Beltrami coefficient truncated below 1 (the overlap
 /// correction); else, if that still folds, the move scaled down to half the time at which its
-/// first triangle would collapse (`collapse_time`), which never folds. Returns the new map and
-/// a note when the move had to be corrected.
+/// first triangle would collapse (`collapse_time`), which never folds. Returns the new map, the
+/// fraction of the step it moved (1 unless shortened) and a note when the move had to be
+/// corrected.
 fn move_without_folds(
     map: &FlatTorusMap,
     step: &[[f64; 2]],
@@ -270,7 +270,7 @@ fn move_without_folds(
     period: [f64; 2],
     source: &UnfoldedFaces,
     lbs: &PeriodicBeltramiSolver,
-) -> Result<(FlatTorusMap, Option<String>)> {
+) -> Result<(FlatTorusMap, f64, Option<String>)> {
     let shifted = |tau: f64| FlatTorusMap {
         points: map
             .points
@@ -282,7 +282,7 @@ fn move_without_folds(
     };
     let full = shifted(1.0);
     if full.count_flipped(faces, period) == 0 {
-        return Ok((full, None));
+        return Ok((full, 1.0, None));
     }
     let target = UnfoldedFaces::new(&full, faces, period);
     let mu: Vec<_> = beltrami_coefficient(&source.points, &target.points, &source.faces)
@@ -293,6 +293,7 @@ fn move_without_folds(
     if corrected.count_flipped(faces, period) == 0 {
         return Ok((
             corrected,
+            1.0,
             Some("folded triangles were rebuilt by the Beltrami overlap correction".into()),
         ));
     }
@@ -306,8 +307,10 @@ fn move_without_folds(
             collapse_time(p, f.map(|v| step[v as usize]))
         })
         .reduce(|| f64::INFINITY, f64::min);
+    let fraction = (0.5 * t_min).min(1.0);
     Ok((
-        shifted((0.5 * t_min).min(1.0)),
+        shifted(fraction),
+        fraction,
         Some("a step that folded triangles was shortened".into()),
     ))
 }
