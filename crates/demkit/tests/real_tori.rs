@@ -10,7 +10,7 @@
 
 use demkit::geometry::torus::Torus;
 use demkit::methods::tdem;
-use demkit::metrics::{Domain, compute};
+use demkit::metrics::{Domain, Metrics, compute};
 use demkit::population::{PopulationSpec, face_populations};
 use std::time::Instant;
 
@@ -31,62 +31,28 @@ fn radii(name: &str) -> Torus {
     Torus::new(value("R"), value("r")).unwrap()
 }
 
-fn check(name: &str) {
-    let _lock = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+/// Maps `genus1/NAME.obj` with `population` (`None`: its population file) onto its target
+/// torus; returns the mesh, the result, its metrics and the seconds the method took.
+fn map_onto_torus(
+    name: &str,
+    population: Option<PopulationSpec>,
+) -> (
+    demkit::TriMesh,
+    demkit::methods::MapResult,
+    Metrics,
+    Vec<f64>,
+    f64,
+) {
     let mesh = demkit::io::read_mesh(&data(&format!("genus1/{name}.obj"))).unwrap();
     let (mesh, _) = demkit::mesh::validate::validate(mesh).unwrap();
-    let spec = PopulationSpec::parse(
-        data(&format!("genus1/{name}.population.txt"))
-            .to_str()
-            .unwrap(),
-    );
+    let spec = population.unwrap_or_else(|| {
+        PopulationSpec::parse(
+            data(&format!("genus1/{name}.population.txt"))
+                .to_str()
+                .unwrap(),
+        )
+    });
     let population = face_populations(&spec, &mesh).unwrap();
-    let torus = radii(name);
-    let t0 = Instant::now();
-    let r = tdem::run(
-        &mesh,
-        &population,
-        &torus,
-        &tdem::Config::default(),
-        &mut |_| {},
-    )
-    .unwrap();
-    let elapsed = t0.elapsed().as_secs_f64();
-    let flat = r.flat_torus.as_ref().unwrap();
-    let flipped = flat.count_flipped(&mesh.faces, torus.periods());
-    let m = compute(
-        &mesh,
-        &population,
-        &r.initial,
-        &r.positions,
-        Domain::Torus { flipped },
-        None,
-    );
-    eprintln!(
-        "{name}: {} iterations ({}), density_var {:.3e} -> {:.3e}, {flipped} flipped, {elapsed:.3} s",
-        r.iterations,
-        r.stop_reason.as_str(),
-        m.density_var_initial,
-        m.density_var_final,
-    );
-    assert!(r.converged);
-    assert_eq!(m.flipped_triangles, 0);
-    assert!(m.density_var_final <= 1e-4, "{}", m.density_var_final);
-    assert_eq!(r.positions.len(), mesh.n_vertices());
-    for p in &r.positions {
-        assert!(torus.distance(*p) <= 1e-9);
-    }
-    if !cfg!(debug_assertions) {
-        assert!(elapsed <= 1.0, "{elapsed:.2} s > 1 s");
-    }
-}
-
-/// Area-preserving toroidal parameterization of `genus1/NAME.obj` onto its target torus.
-fn parameterize(name: &str, table3: f64) {
-    let _lock = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
-    let mesh = demkit::io::read_mesh(&data(&format!("genus1/{name}.obj"))).unwrap();
-    let (mesh, _) = demkit::mesh::validate::validate(mesh).unwrap();
-    let population = face_populations(&PopulationSpec::Area, &mesh).unwrap();
     let torus = radii(name);
     let t0 = Instant::now();
     let r = tdem::run(
@@ -111,6 +77,36 @@ fn parameterize(name: &str, table3: f64) {
         Domain::Torus { flipped },
         None,
     );
+    for p in &r.positions {
+        assert!(torus.distance(*p) <= 1e-9);
+    }
+    (mesh, r, m, population, elapsed)
+}
+
+fn check(name: &str) {
+    let _lock = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let (mesh, r, m, _, elapsed) = map_onto_torus(name, None);
+    eprintln!(
+        "{name}: {} iterations ({}), density_var {:.3e} -> {:.3e}, {} flipped, {elapsed:.3} s",
+        r.iterations,
+        r.stop_reason.as_str(),
+        m.density_var_initial,
+        m.density_var_final,
+        m.flipped_triangles,
+    );
+    assert!(r.converged);
+    assert_eq!(m.flipped_triangles, 0);
+    assert!(m.density_var_final <= 1e-4, "{}", m.density_var_final);
+    assert_eq!(r.positions.len(), mesh.n_vertices());
+    if !cfg!(debug_assertions) {
+        assert!(elapsed <= 1.0, "{elapsed:.2} s > 1 s");
+    }
+}
+
+/// Area-preserving toroidal parameterization of `genus1/NAME.obj` onto its target torus.
+fn parameterize(name: &str, table3: f64) {
+    let _lock = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let (mesh, r, m, population, elapsed) = map_onto_torus(name, Some(PopulationSpec::Area));
     let initial_error = demkit::metrics::density_error(
         &population,
         &demkit::geometry::face_areas(&r.initial, &mesh.faces),
@@ -118,18 +114,16 @@ fn parameterize(name: &str, table3: f64) {
     .0;
     eprintln!(
         "{name}: {} iterations ({}), mean |d_area| {initial_error:.4} -> {:.4} (paper {table3}), \
-         mean |mu| {:.3}, {flipped} flipped, {elapsed:.2} s",
+         mean |mu| {:.3}, {} flipped, {elapsed:.2} s",
         r.iterations,
         r.stop_reason.as_str(),
         m.density_error_mean,
         m.mean_abs_mu,
+        m.flipped_triangles,
     );
     assert!(r.converged);
     assert_eq!(m.flipped_triangles, 0);
     assert!(m.density_error_mean <= table3, "{}", m.density_error_mean);
-    for p in &r.positions {
-        assert!(torus.distance(*p) <= 1e-9);
-    }
     if !cfg!(debug_assertions) {
         assert!(elapsed <= 5.0, "{elapsed:.2} s > 5 s");
     }

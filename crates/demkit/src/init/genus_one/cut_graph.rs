@@ -241,24 +241,20 @@ fn primal_tree(
     root: u32,
     kind: &mut [EdgeKind],
 ) -> Result<Vec<u32>> {
-    // Outgoing half-edges per vertex (CSR).
-    let mut start = vec![0usize; n_vertices + 1];
-    for t in faces {
-        for &v in t {
-            start[v as usize + 1] += 1;
-        }
-    }
-    for v in 0..n_vertices {
-        start[v + 1] += start[v];
-    }
-    let mut fill = start.clone();
-    let mut out = vec![0u32; start[n_vertices]];
-    for (f, t) in faces.iter().enumerate() {
-        for (c, &v) in t.iter().enumerate() {
-            out[fill[v as usize]] = (3 * f + c) as u32;
-            fill[v as usize] += 1;
-        }
-    }
+    // Outgoing half-edges per vertex (CSR over the vertex–face incidence): half-edge `3f + c`
+    // leaves corner c of face f.
+    let (start, incident) = crate::mesh::vertex_faces(n_vertices, faces);
+    let out: Vec<u32> = (0..n_vertices)
+        .flat_map(|v| {
+            incident[start[v]..start[v + 1]].iter().map(move |&f| {
+                let c = faces[f as usize]
+                    .iter()
+                    .position(|&w| w as usize == v)
+                    .unwrap_or(0);
+                3 * f + c as u32
+            })
+        })
+        .collect();
     let mut parent = vec![NONE; n_vertices];
     let mut seen = vec![false; n_vertices];
     seen[root as usize] = true;
