@@ -75,7 +75,7 @@ impl Default for Config {
 /// Largest distance of a landmark target from the unit sphere.
 const TARGET_TOLERANCE: f64 = 1e-4;
 
-/// Checks the landmarks: indices in range, each vertex once ([`super::check_landmark_vertices`]),
+/// Checks the landmarks: indices in range, each vertex once (`methods::check_landmark_vertices`),
 /// targets on the unit sphere.
 pub fn check_landmarks(landmarks: &[(usize, [f64; 3])], n_vertices: usize) -> Result<()> {
     super::check_landmark_vertices(landmarks, n_vertices, "lsdem")?;
