@@ -98,6 +98,10 @@ pub struct MapArgs {
     /// Write the JSON report here.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// Also write the input mesh with texture coordinates (`vt`, in [0, 1]²) from the planar,
+    /// circle-domain or flat-torus map (.obj).
+    #[arg(long = "uv-out")]
+    pub uv_out: Option<PathBuf>,
     /// Target shape for dem-shape: disk, square, rectangle:W:H, ellipse:A:B.
     #[arg(long)]
     pub shape: Option<String>,

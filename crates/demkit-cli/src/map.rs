@@ -34,6 +34,9 @@ pub fn check_output_extension(out: &Path) -> Result<(), Failure> {
 pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     let t0 = Instant::now();
     check_output_extension(&a.out)?;
+    if let Some(uv) = &a.uv_out {
+        check_uv_extension(uv)?;
+    }
     let mesh = demkit::io::read_mesh(&a.mesh)?;
     let (mesh, warnings) = demkit::mesh::validate::validate(mesh)?;
     if !a.quiet {
@@ -44,6 +47,17 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     let topo = topology(&mesh);
     let method = resolve_method(a, topo.boundary_loops.len(), topo.genus)?;
     warn_unused(a, method);
+    if a.uv_out.is_some()
+        && matches!(
+            method,
+            Method::Sdem | Method::Lsdem | Method::SphericalConformal
+        )
+    {
+        return Err(Failure::input(format!(
+            "--uv-out needs a planar, circle-domain or torus map, and --method {} maps onto the sphere",
+            method.name()
+        )));
+    }
     let population = face_populations(&PopulationSpec::parse(&a.population), &mesh)?;
 
     let landmarks: Option<Vec<(usize, [f64; 3])>> = match &a.landmarks {
@@ -154,6 +168,12 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     };
     let out_mesh = TriMesh::new(result.positions.clone(), mesh.faces.clone());
     demkit::io::write_mesh(&a.out, &out_mesh)?;
+    if let Some(uv) = &a.uv_out {
+        let torus = a.torus.as_deref().map(parse_torus).transpose()?;
+        let texture =
+            demkit::apps::texture::texture_coordinates(&result, &mesh.faces, torus.as_ref())?;
+        demkit::io::write_textured_obj(uv, &mesh, &texture)?;
+    }
     let metrics = compute(
         &mesh,
         &population,
@@ -245,6 +265,22 @@ fn resolve_method(a: &MapArgs, boundaries: usize, genus: i64) -> Result<Method, 
             )));
         }
     })
+}
+
+/// `--uv-out` writes .obj only (the format with per-corner texture coordinates).
+fn check_uv_extension(path: &Path) -> Result<(), Failure> {
+    let obj = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+    if obj {
+        Ok(())
+    } else {
+        Err(Failure::input(format!(
+            "cannot write '{}': --uv-out writes .obj files",
+            path.display()
+        )))
+    }
 }
 
 /// `--torus R:r`: the target torus of tdem.

@@ -21,6 +21,7 @@
 // `!(x > 0.0)` is used on purpose: it is true for NaN, which must count as a failure.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod apps;
 pub mod error;
 pub mod expr;
 pub mod fem;

@@ -65,6 +65,25 @@ pub fn write_mesh(path: &Path, mesh: &TriMesh) -> Result<()> {
     .map_err(io_error)
 }
 
+/// Writes `mesh` as `.obj` with texture coordinates (`vt` lines and `f a/ta b/tb c/tc`).
+///
+/// Errors: another extension than `.obj` ([`Error::Format`], before anything is created), or a
+/// failure to create or write the file ([`Error::Io`]).
+pub fn write_textured_obj(
+    path: &Path,
+    mesh: &TriMesh,
+    texture: &obj::TextureCoordinates,
+) -> Result<()> {
+    extension(path, &["obj"], "texture output")?;
+    let io_error = |source| Error::Io {
+        path: path_label(path),
+        source,
+    };
+    let file = std::fs::File::create(path).map_err(io_error)?;
+    obj::write_obj_textured(BufWriter::with_capacity(1 << 20, file), mesh, Some(texture))
+        .map_err(io_error)
+}
+
 /// The lower-cased extension of `path` if it is one of `supported`, else [`Error::Format`].
 fn extension(path: &Path, supported: &[&str], what: &str) -> Result<String> {
     let ext = path

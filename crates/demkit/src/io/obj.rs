@@ -114,7 +114,26 @@ fn corner(token: &[u8], n_so_far: usize, path: &str, line: usize) -> Result<(u32
 
 /// Writes `mesh` as OBJ: a comment, `v x y z` lines with the shortest representation that reads
 /// back to the same `f64`, and 1-based `f a b c` lines. Flushes `w` at the end.
-pub fn write_obj<W: Write>(mut w: W, mesh: &TriMesh) -> std::io::Result<()> {
+pub fn write_obj<W: Write>(w: W, mesh: &TriMesh) -> std::io::Result<()> {
+    write_obj_textured(w, mesh, None)
+}
+
+/// Texture coordinates for [`write_obj_textured`]: `vt` points and, per face corner, the index
+/// of its point (a vertex may have several, one per side of a seam).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TextureCoordinates {
+    /// The `vt u v` points.
+    pub points: Vec<[f64; 2]>,
+    /// Per face, the 0-based `vt` index of each corner.
+    pub corners: Vec<[u32; 3]>,
+}
+
+/// As [`write_obj`], with `vt` lines and `f a/ta b/tb c/tc` faces when `texture` is given.
+pub fn write_obj_textured<W: Write>(
+    mut w: W,
+    mesh: &TriMesh,
+    texture: Option<&TextureCoordinates>,
+) -> std::io::Result<()> {
     const BLOCK: usize = 1 << 16;
     // Lines are assembled in a reusable buffer and written in blocks: much faster than
     // formatting each number through the writer.
@@ -125,24 +144,35 @@ pub fn write_obj<W: Write>(mut w: W, mesh: &TriMesh) -> std::io::Result<()> {
         mesh.positions.len(),
         mesh.faces.len()
     )?;
+    let flush = |buf: &mut Vec<u8>, w: &mut W| -> std::io::Result<()> {
+        if buf.len() > BLOCK {
+            w.write_all(buf)?;
+            buf.clear();
+        }
+        Ok(())
+    };
     for [x, y, z] in &mesh.positions {
         writeln!(buf, "v {x} {y} {z}")?;
-        if buf.len() > BLOCK {
-            w.write_all(&buf)?;
-            buf.clear();
+        flush(&mut buf, &mut w)?;
+    }
+    if let Some(t) = texture {
+        for [u, v] in &t.points {
+            writeln!(buf, "vt {u} {v}")?;
+            flush(&mut buf, &mut w)?;
         }
     }
-    for f in &mesh.faces {
+    for (i, f) in mesh.faces.iter().enumerate() {
         buf.push(b'f');
-        for &v in f {
+        for (k, &v) in f.iter().enumerate() {
             buf.push(b' ');
             push_decimal(&mut buf, v as u64 + 1);
+            if let Some(t) = texture {
+                buf.push(b'/');
+                push_decimal(&mut buf, t.corners[i][k] as u64 + 1);
+            }
         }
         buf.push(b'\n');
-        if buf.len() > BLOCK {
-            w.write_all(&buf)?;
-            buf.clear();
-        }
+        flush(&mut buf, &mut w)?;
     }
     w.write_all(&buf)?;
     w.flush()

@@ -1,0 +1,3 @@
+//! What the maps are for (the papers' applications): texture coordinates so far.
+
+pub mod texture;
