@@ -13,4 +13,4 @@ pub use diffusion::{DiffusionFactor, DiffusionOperator};
 pub use face_to_vertex::VertexFaces;
 pub use gradient::{face_gradient, face_gradient_into};
 pub use laplacian::{cotangent_weights, cotangent_weights_into, lumped_mass};
-pub use periodic::UnfoldedFaces;
+pub use periodic::{PeriodicSystem, UnfoldedFaces};

@@ -7,6 +7,9 @@
 use super::{cotangent_weights, face_gradient};
 use crate::geometry::signed_areas_2d;
 use crate::geometry::torus::FlatTorusMap;
+use crate::linalg::{CachedCholesky, StiffnessPattern};
+use crate::{Error, Result};
+use std::cell::RefCell;
 
 /// The faces of a flat torus map unfolded into the plane: three points per face, face `f`
 /// being `[3f, 3f + 1, 3f + 2]`.
@@ -44,6 +47,89 @@ impl UnfoldedFaces {
             .flat_map(|f| f.map(|v| values[v as usize]))
             .collect();
         face_gradient(&self.points, &self.faces, &corner_values)
+    }
+}
+
+/// The weighted Laplace system of a periodic map: the points `X` minimising
+/// `Σ_T Σ_edges w |(X_a + s_a) − (X_b + s_b)|²`, where `s` is the translation at which each face
+/// corner is drawn, with the `pinned` vertices held at given points. One sparsity pattern and
+/// symbolic Cholesky analysis per connectivity; each [`solve`](Self::solve) refactors
+/// numerically. The periodic harmonic map of a genus-one surface (cotangent weights of the
+/// surface) and the periodic linear Beltrami solver (generalized Laplacian weights) are this
+/// system with different weights.
+#[derive(Debug)]
+pub struct PeriodicSystem {
+    pattern: StiffnessPattern,
+    cholesky: CachedCholesky,
+    pinned: Vec<bool>,
+    values: RefCell<Vec<f64>>,
+}
+
+impl PeriodicSystem {
+    /// Analyses `faces` on `n_vertices` vertices with the vertices `pinned` eliminated (at least
+    /// one per connected surface: the system is invariant under translations).
+    pub fn new(n_vertices: usize, faces: &[[u32; 3]], pinned: &[bool]) -> Result<Self> {
+        let pattern = StiffnessPattern::new(n_vertices, faces, Some(pinned));
+        let cholesky = CachedCholesky::new(&pattern)?;
+        let values = RefCell::new(vec![0.0; pattern.nnz()]);
+        Ok(Self {
+            pattern,
+            cholesky,
+            pinned: pinned.to_vec(),
+            values,
+        })
+    }
+
+    /// Solves for the per-corner edge weights `weights` (entry `c` of face `f` weighs the edge
+    /// opposite corner `c`), the corner translations `shift(f, k)` and the pinned vertices at
+    /// `pinned_at[v]` (other entries ignored). Setting the gradient to zero,
+    /// `Σ w (X_a + s_a − X_b − s_b) = 0` at every free vertex `a`: each edge adds
+    /// `w (s_b − s_a)` to the right-hand side of `a` and the opposite to `b`.
+    ///
+    /// Errors: [`Error::Numerical`] when the matrix is not positive definite or the solution
+    /// is not finite.
+    pub fn solve(
+        &self,
+        faces: &[[u32; 3]],
+        weights: &[[f64; 3]],
+        shift: impl Fn(usize, usize) -> [f64; 2],
+        pinned_at: &[[f64; 2]],
+    ) -> Result<Vec<[f64; 2]>> {
+        let mut values = self.values.borrow_mut();
+        self.pattern.assemble(weights, &[], &mut values);
+        let factor = self.cholesky.factor(&self.pattern, &values)?;
+        let n = self.pattern.n_unknowns();
+        let unknown = self.pattern.unknown_map();
+        let coordinate = |d: usize| pinned_at.iter().map(|p| p[d]).collect::<Vec<f64>>();
+        let mut rhs = self.pattern.fixed_rhs(weights, &coordinate(0));
+        rhs.extend(self.pattern.fixed_rhs(weights, &coordinate(1)));
+        for (f, (t, wf)) in faces.iter().zip(weights).enumerate() {
+            let s = [shift(f, 0), shift(f, 1), shift(f, 2)];
+            for (c, &w) in wf.iter().enumerate() {
+                let (a, b) = ((c + 1) % 3, (c + 2) % 3);
+                let flow = [w * (s[b][0] - s[a][0]), w * (s[b][1] - s[a][1])];
+                for (corner, sign) in [(a, 1.0), (b, -1.0)] {
+                    let u = unknown[t[corner] as usize];
+                    if u != u32::MAX {
+                        rhs[u as usize] += sign * flow[0];
+                        rhs[n + u as usize] += sign * flow[1];
+                    }
+                }
+            }
+        }
+        factor.solve_many_in_place(&mut rhs, 2);
+        if rhs.iter().any(|x| !x.is_finite()) {
+            return Err(Error::Numerical(
+                "the periodic Laplace system has no finite solution".into(),
+            ));
+        }
+        Ok((0..unknown.len())
+            .map(|v| match unknown[v] {
+                u32::MAX if self.pinned[v] => pinned_at[v],
+                u32::MAX => [0.0, 0.0],
+                u => [rhs[u as usize], rhs[n + u as usize]],
+            })
+            .collect())
     }
 }
 

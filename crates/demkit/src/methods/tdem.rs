@@ -205,7 +205,8 @@ pub fn run_from(
             .zip(&rho)
             .map(|(g, r)| [-h * g[0] / r, -h * g[1] / r])
             .collect();
-        let (moved, fraction, how) = move_without_folds(&map, &step, faces, period, &source, &lbs)?;
+        let (moved, fraction, how) =
+            move_without_folds(&map, &m.unfolded, &step, faces, period, &source, &lbs)?;
         if let Some(note) = how.filter(|n| !notes.contains(n)) {
             notes.push(note);
         }
@@ -262,9 +263,11 @@ pub fn run_from(
 /// correction); else, if that still folds, the move scaled down to half the time at which its
 /// first triangle would collapse (`collapse_time`), which never folds. Returns the new map, the
 /// fraction of the step it moved (1 unless shortened) and a note when the move had to be
-/// corrected.
+/// corrected. `now` is `map` unfolded.
+#[allow(clippy::too_many_arguments)]
 fn move_without_folds(
     map: &FlatTorusMap,
+    now: &UnfoldedFaces,
     step: &[[f64; 2]],
     faces: &[[u32; 3]],
     period: [f64; 2],
@@ -297,7 +300,6 @@ fn move_without_folds(
             Some("folded triangles were rebuilt by the Beltrami overlap correction".into()),
         ));
     }
-    let now = UnfoldedFaces::new(map, faces, period);
     let t_min = now
         .faces
         .par_iter()

@@ -7,17 +7,16 @@
 
 use super::generalized_laplacian_weights;
 use crate::Result;
-use crate::fem::UnfoldedFaces;
+use crate::fem::{PeriodicSystem, UnfoldedFaces};
 use crate::geometry::torus::FlatTorusMap;
-use crate::linalg::{CachedCholesky, StiffnessPattern};
 use num_complex::Complex64;
 
 /// LBS on one genus-one connectivity, with vertex 0 pinned.
 #[derive(Debug)]
 pub struct PeriodicBeltramiSolver {
     faces: Vec<[u32; 3]>,
-    pattern: StiffnessPattern,
-    cholesky: CachedCholesky,
+    n_vertices: usize,
+    system: PeriodicSystem,
 }
 
 impl PeriodicBeltramiSolver {
@@ -27,12 +26,10 @@ impl PeriodicBeltramiSolver {
         if let Some(p) = pinned.first_mut() {
             *p = true;
         }
-        let pattern = StiffnessPattern::new(n_vertices, faces, Some(&pinned));
-        let cholesky = CachedCholesky::new(&pattern)?;
         Ok(Self {
             faces: faces.to_vec(),
-            pattern,
-            cholesky,
+            n_vertices,
+            system: PeriodicSystem::new(n_vertices, faces, &pinned)?,
         })
     }
 
@@ -47,43 +44,16 @@ impl PeriodicBeltramiSolver {
         period: [f64; 2],
         pinned_at: [f64; 2],
     ) -> Result<FlatTorusMap> {
-        let n_vertices = self.pattern.unknown_map().len();
         let w = generalized_laplacian_weights(&source.points, &source.faces, mu);
-        let mut values = vec![0.0; self.pattern.nnz()];
-        self.pattern.assemble(&w, &[], &mut values);
-        let factor = self.cholesky.factor(&self.pattern, &values)?;
-        let n = self.pattern.n_unknowns();
-        let mut pinned_x = vec![0.0; n_vertices];
-        let mut pinned_y = vec![0.0; n_vertices];
-        pinned_x[0] = pinned_at[0];
-        pinned_y[0] = pinned_at[1];
-        let mut rhs = self.pattern.fixed_rhs(&w, &pinned_x);
-        rhs.extend(self.pattern.fixed_rhs(&w, &pinned_y));
-        // The period translations: ∂E/∂X_a = Σ w (X_a + s_a − X_b − s_b) = 0, so each edge adds
-        // w (s_b − s_a) to the right-hand side of a (and the opposite to b).
-        let map = self.pattern.unknown_map();
-        for ((f, wf), o) in self.faces.iter().zip(&w).zip(offsets) {
-            let shift = |k: usize| [o[k][0] as f64 * period[0], o[k][1] as f64 * period[1]];
-            for (c, &weight) in wf.iter().enumerate() {
-                let (a, b) = ((c + 1) % 3, (c + 2) % 3);
-                let (sa, sb) = (shift(a), shift(b));
-                for (corner, sign) in [(a, 1.0), (b, -1.0)] {
-                    let u = map[f[corner] as usize];
-                    if u != u32::MAX {
-                        let u = u as usize;
-                        rhs[u] += sign * weight * (sb[0] - sa[0]);
-                        rhs[n + u] += sign * weight * (sb[1] - sa[1]);
-                    }
-                }
-            }
+        let shift = |f: usize, k: usize| {
+            let o = offsets[f][k];
+            [o[0] as f64 * period[0], o[1] as f64 * period[1]]
+        };
+        let mut pinned = vec![[0.0; 2]; self.n_vertices];
+        if let Some(p) = pinned.first_mut() {
+            *p = pinned_at;
         }
-        factor.solve_many_in_place(&mut rhs, 2);
-        let points = (0..n_vertices)
-            .map(|v| match map[v] {
-                u32::MAX => pinned_at,
-                u => [rhs[u as usize], rhs[n + u as usize]],
-            })
-            .collect();
+        let points = self.system.solve(&self.faces, &w, shift, &pinned)?;
         Ok(FlatTorusMap {
             points,
             offsets: offsets.to_vec(),

@@ -11,8 +11,8 @@
 //! Solving for `(U₁, U₂)` once — the map onto the unit lattice `Z²` — gives the harmonic map
 //! for every lattice as a linear image of it.
 
-use crate::linalg::{CachedCholesky, StiffnessPattern};
-use crate::{Error, Result};
+use crate::Result;
+use crate::fem::PeriodicSystem;
 
 /// The harmonic map onto the unit-lattice torus `R² / Z²`: vertex `v` at `(u[0][v], u[1][v])`,
 /// corner `k` of face `f` at that point plus [`corner_offset`]`(forms, f, k)`.
@@ -43,31 +43,33 @@ pub fn corner_offset(forms: [&[i64]; 2], f: usize, k: usize) -> [i64; 2] {
     [sum(forms[0]), sum(forms[1])]
 }
 
-/// The periodic Laplace system of one mesh: its sparsity pattern with the pinned vertices
-/// eliminated and its symbolic Cholesky analysis, reused for every choice of weights.
+/// The periodic Laplace system of one mesh ([`PeriodicSystem`]) with the pinned vertices held
+/// at 0, reused for every choice of weights.
 #[derive(Debug)]
 pub struct PeriodicLaplacian {
-    pattern: StiffnessPattern,
-    cholesky: CachedCholesky,
+    system: PeriodicSystem,
+    n_vertices: usize,
 }
 
 impl PeriodicLaplacian {
     /// Analyses the system of `faces` on `n_vertices` vertices with the vertices `pinned` held
     /// at 0 (one vertex of the surface, plus any vertex no face uses).
     ///
-    /// Errors: [`Error::Numerical`] when the symbolic analysis fails.
+    /// Errors: [`crate::Error::Numerical`] when the symbolic analysis fails.
     pub fn new(n_vertices: usize, faces: &[[u32; 3]], pinned: &[bool]) -> Result<Self> {
-        let pattern = StiffnessPattern::new(n_vertices, faces, Some(pinned));
-        let cholesky = CachedCholesky::new(&pattern)?;
-        Ok(Self { pattern, cholesky })
+        Ok(Self {
+            system: PeriodicSystem::new(n_vertices, faces, pinned)?,
+            n_vertices,
+        })
     }
 
     /// Solves the two unit-period harmonic problems `L U_k = Σ_j w_ij η_k(i→j)` for the
     /// per-corner edge weights `weights` (entry `c` of face `f` weighs the edge opposite corner
     /// `c`, as in [`crate::fem::cotangent_weights`]) and the closed forms `forms` (one value
-    /// per half-edge `3f + c`, from corner `c` to corner `c + 1`).
+    /// per half-edge `3f + c`, from corner `c` to corner `c + 1`): the corners are translated
+    /// by [`corner_offset`].
     ///
-    /// Errors: [`Error::Numerical`] when the matrix is not positive definite (weights of the
+    /// Errors: [`crate::Error::Numerical`] when the matrix is not positive definite (weights of the
     /// wrong sign or not finite) or the solution is not finite.
     pub fn solve(
         &self,
@@ -75,47 +77,13 @@ impl PeriodicLaplacian {
         weights: &[[f64; 3]],
         forms: [&[i64]; 2],
     ) -> Result<UnitMap> {
-        let pattern = &self.pattern;
-        let mut values = vec![0.0; pattern.nnz()];
-        pattern.assemble(weights, &[], &mut values);
-        let factor = self.cholesky.factor(pattern, &values)?;
-        let m = pattern.n_unknowns();
-        let unknown = pattern.unknown_map();
-        // b_i = Σ_j w_ij η(i→j): the edge opposite corner c runs from corner c+1 to corner c+2,
-        // which is half-edge 3f + (c+1) mod 3; its twin in the other face adds the other half.
-        let mut rhs = vec![0.0; 2 * m];
-        for (f, t) in faces.iter().enumerate() {
-            for c in 0..3 {
-                let h = 3 * f + (c + 1) % 3;
-                let (a, b) = (t[(c + 1) % 3] as usize, t[(c + 2) % 3] as usize);
-                let w = weights[f][c];
-                for k in 0..2 {
-                    let flow = w * forms[k][h] as f64;
-                    if unknown[a] != u32::MAX {
-                        rhs[k * m + unknown[a] as usize] += flow;
-                    }
-                    if unknown[b] != u32::MAX {
-                        rhs[k * m + unknown[b] as usize] -= flow;
-                    }
-                }
-            }
-        }
-        factor.solve_many_in_place(&mut rhs, 2);
-        if rhs.iter().any(|x| !x.is_finite()) {
-            return Err(Error::Numerical(
-                "the periodic harmonic map is not finite".into(),
-            ));
-        }
-        let u = std::array::from_fn(|k| {
-            unknown
-                .iter()
-                .map(|&i| match i {
-                    u32::MAX => 0.0,
-                    i => rhs[k * m + i as usize],
-                })
-                .collect()
-        });
-        Ok(UnitMap { u })
+        let shift = |f: usize, k: usize| corner_offset(forms, f, k).map(|o| o as f64);
+        let x = self
+            .system
+            .solve(faces, weights, shift, &vec![[0.0; 2]; self.n_vertices])?;
+        Ok(UnitMap {
+            u: std::array::from_fn(|k| x.iter().map(|p| p[k]).collect()),
+        })
     }
 }
 
