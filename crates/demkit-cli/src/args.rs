@@ -22,6 +22,14 @@ pub enum Command {
     Map(MapArgs),
     /// Write a synthetic mesh (grids, polygons, height fields, spheres, tori, ...).
     Generate(GenerateArgs),
+    /// Remesh a surface through its density-equalizing map (uniform or population-driven).
+    Remesh(RemeshArgs),
+    /// Make a cartogram of GeoJSON regions: each region's area proportional to a value.
+    Cartogram(CartogramArgs),
+    /// Carry one genus-0 surface onto another through landmark-matched spherical maps.
+    Register(RegisterArgs),
+    /// Draw a mesh to a PNG picture.
+    Render(RenderArgs),
 }
 
 /// `demkit info MESH [--json]`
@@ -77,15 +85,9 @@ impl Method {
     }
 }
 
-/// `demkit map MESH --out OUT [...]`
+/// How a density-equalizing map is computed: the options shared by `map` and `remesh`.
 #[derive(Args, Debug)]
-#[command(allow_negative_numbers = true)]
-pub struct MapArgs {
-    /// The input mesh (.obj, .ply, .off, .stl).
-    pub mesh: PathBuf,
-    /// Output mesh (.obj or .ply): same faces and vertex order, mapped coordinates.
-    #[arg(long)]
-    pub out: PathBuf,
+pub struct MethodArgs {
     /// The method.
     #[arg(long, value_enum, default_value_t = Method::Auto)]
     pub method: Method,
@@ -95,13 +97,6 @@ pub struct MapArgs {
     /// Landmark file: `vertex_index target_x target_y [target_z]` per line.
     #[arg(long)]
     pub landmarks: Option<PathBuf>,
-    /// Write the JSON report here.
-    #[arg(long)]
-    pub report: Option<PathBuf>,
-    /// Also write the input mesh with texture coordinates (`vt`, in [0, 1]²) from the planar,
-    /// circle-domain or flat-torus map (.obj).
-    #[arg(long = "uv-out")]
-    pub uv_out: Option<PathBuf>,
     /// Target shape for dem-shape: disk, square, rectangle:W:H, ellipse:A:B.
     #[arg(long)]
     pub shape: Option<String>,
@@ -132,9 +127,124 @@ pub struct MapArgs {
     /// Iteration limit (default: the method's own).
     #[arg(long)]
     pub max_iter: Option<usize>,
+}
+
+/// `demkit map MESH --out OUT [...]`
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct MapArgs {
+    /// The input mesh (.obj, .ply, .off, .stl).
+    pub mesh: PathBuf,
+    /// Output mesh (.obj or .ply): same faces and vertex order, mapped coordinates.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// The method and its parameters.
+    #[command(flatten)]
+    pub m: MethodArgs,
+    /// Write the JSON report here.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// Also write the input mesh with texture coordinates (`vt`, in [0, 1]²) from the planar,
+    /// circle-domain or flat-torus map (.obj).
+    #[arg(long = "uv-out")]
+    pub uv_out: Option<PathBuf>,
+    /// Also draw the mapped mesh coloured by the input population density (.png).
+    #[arg(long)]
+    pub render: Option<PathBuf>,
+    /// Also draw the initial and final density histograms side by side (.png).
+    #[arg(long)]
+    pub histogram: Option<PathBuf>,
     /// No progress bar and no warnings.
     #[arg(long)]
     pub quiet: bool,
+}
+
+/// `demkit remesh MESH --out OUT [--vertices N] [method options]`
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct RemeshArgs {
+    /// The input mesh (.obj, .ply, .off, .stl).
+    pub mesh: PathBuf,
+    /// Output mesh (.obj or .ply): a new triangulation of the input surface.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// About how many vertices the new mesh has.
+    #[arg(long, default_value_t = 5000)]
+    pub vertices: usize,
+    /// The map used for remeshing and its parameters; the population sets the vertex density.
+    #[command(flatten)]
+    pub m: MethodArgs,
+    /// Write a JSON report (the map's and the new mesh's figures) here.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// No progress bar and no warnings.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `demkit cartogram REGIONS.geojson --value FIELD --out OUT.geojson [...]`
+#[derive(Args, Debug)]
+pub struct CartogramArgs {
+    /// The regions: a GeoJSON FeatureCollection of polygons and multipolygons.
+    pub regions: PathBuf,
+    /// The numeric feature property that sets each region's area.
+    #[arg(long)]
+    pub value: String,
+    /// Output GeoJSON: the same features and properties, transformed coordinates.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Also draw the cartogram as SVG.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+    /// Write a JSON report here.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// Coordinates are longitude/latitude degrees: compute on the globe (SDEM).
+    #[arg(long)]
+    pub sphere: bool,
+    /// Iteration limit (default: the method's own).
+    #[arg(long)]
+    pub max_iter: Option<usize>,
+    /// No progress bar and no warnings.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `demkit register A B --landmarks-a FA --landmarks-b FB --out OUT.obj`
+#[derive(Args, Debug)]
+pub struct RegisterArgs {
+    /// The surface to carry over (genus-0 closed).
+    pub a: PathBuf,
+    /// The surface to land on (genus-0 closed).
+    pub b: PathBuf,
+    /// A's landmarks: one vertex index per line.
+    #[arg(long = "landmarks-a")]
+    pub landmarks_a: PathBuf,
+    /// B's landmarks, corresponding line by line to A's.
+    #[arg(long = "landmarks-b")]
+    pub landmarks_b: PathBuf,
+    /// Output mesh (.obj or .ply): A's faces, vertices on B's surface.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Write a JSON report here.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// No progress bar and no warnings.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `demkit render MESH --out PNG [--color FILE]`
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// The mesh (.obj, .ply, .off, .stl).
+    pub mesh: PathBuf,
+    /// Output picture (.png).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// One value per face (population-file format) to colour by; default: plain shading.
+    #[arg(long)]
+    pub color: Option<PathBuf>,
 }
 
 /// `demkit generate KIND ... --out FILE`

@@ -4,10 +4,14 @@
 //! converged within `--max-iter` (result and report still written); 1 anything else.
 
 mod args;
+mod cartogram;
 mod generate;
 mod info;
 mod map;
 mod progress;
+mod register;
+mod remesh;
+mod render;
 mod report;
 
 use clap::Parser;
@@ -31,6 +35,14 @@ impl From<demkit::Error> for Failure {
 }
 
 impl Failure {
+    /// A subcommand that is not built yet (exit code 1).
+    pub fn not_implemented(what: &str) -> Self {
+        Failure {
+            code: 1,
+            message: format!("{what} is not implemented yet"),
+        }
+    }
+
     /// A bad-input failure (exit code 2).
     pub fn input(message: impl Into<String>) -> Self {
         Failure {
@@ -79,6 +91,10 @@ fn main() -> ExitCode {
         args::Command::Info(a) => info::run(&a),
         args::Command::Map(a) => map::run(&a),
         args::Command::Generate(a) => generate::run(&a),
+        args::Command::Remesh(a) => remesh::run(&a),
+        args::Command::Cartogram(a) => cartogram::run(&a),
+        args::Command::Register(a) => register::run(&a),
+        args::Command::Render(a) => render::run(&a),
     });
     match outcome {
         Ok(Ok(code)) => ExitCode::from(code),

@@ -1,16 +1,17 @@
 //! `demkit map`: read, validate, map, write the mesh and the report.
 
 use crate::Failure;
-use crate::args::{MapArgs, Method};
+use crate::args::{MapArgs, Method, MethodArgs};
 use crate::progress::Bar;
 use crate::report::{InputSummary, Report};
 use demkit::TriMesh;
+use demkit::geometry::torus::Torus;
 use demkit::init::shape::Shape;
 use demkit::mesh::topology::topology;
 use demkit::methods::{
     circle_conformal, dem, dem_shape, deq, ldeq, lsdem, sdem, spherical_conformal, tdem,
 };
-use demkit::metrics::{Domain, compute};
+use demkit::metrics::{Domain, compute as compute_metrics};
 use demkit::population::{PopulationSpec, face_populations};
 use std::path::Path;
 use std::time::Instant;
@@ -30,36 +31,31 @@ pub fn check_output_extension(out: &Path) -> Result<(), Failure> {
     }
 }
 
-/// Runs the map command; returns the exit code (0, or 3 when not converged).
-pub fn run(a: &MapArgs) -> Result<u8, Failure> {
-    let t0 = Instant::now();
-    check_output_extension(&a.out)?;
-    if let Some(uv) = &a.uv_out {
-        check_uv_extension(uv)?;
-    }
-    let mesh = demkit::io::read_mesh(&a.mesh)?;
-    let (mesh, warnings) = demkit::mesh::validate::validate(mesh)?;
-    if !a.quiet {
-        for w in &warnings {
-            eprintln!("warning: {w}");
-        }
-    }
-    let topo = topology(&mesh);
-    let method = resolve_method(a, topo.boundary_loops.len(), topo.genus)?;
-    warn_unused(a, method);
-    if a.uv_out.is_some()
-        && matches!(
-            method,
-            Method::Sdem | Method::Lsdem | Method::SphericalConformal
-        )
-    {
-        return Err(Failure::input(format!(
-            "--uv-out needs a planar, circle-domain or torus map, and --method {} maps onto the sphere",
-            method.name()
-        )));
-    }
-    let population = face_populations(&PopulationSpec::parse(&a.population), &mesh)?;
+/// A computed map with what it was computed from.
+pub struct Computed {
+    /// The method that ran (never `Auto`).
+    pub method: Method,
+    /// The population of every input face.
+    pub population: Vec<f64>,
+    /// The landmarks, when the method uses them.
+    pub landmarks: Option<Vec<(usize, [f64; 3])>>,
+    /// The map.
+    pub result: demkit::methods::MapResult,
+    /// Where the map lies (plane, sphere, torus), for the metrics.
+    pub domain: Domain,
+    /// The target torus of tdem.
+    pub torus: Option<Torus>,
+}
 
+/// Computes the density-equalizing map of a validated mesh with the options of `map` and
+/// `remesh`; `method` comes from [`resolve_method`].
+pub fn compute(
+    mesh: &TriMesh,
+    method: Method,
+    a: &MethodArgs,
+    quiet: bool,
+) -> Result<Computed, Failure> {
+    let population = face_populations(&PopulationSpec::parse(&a.population), mesh)?;
     let landmarks: Option<Vec<(usize, [f64; 3])>> = match &a.landmarks {
         Some(path)
             if matches!(
@@ -82,14 +78,23 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             "--method ldeq needs --landmarks FILE (vertex_index x y per line)",
         ));
     }
+    let torus = match (&a.torus, method) {
+        (Some(s), Method::Tdem) => Some(parse_torus(s)?),
+        (None, Method::Tdem) => {
+            return Err(Failure::input(
+                "--method tdem (for genus-one closed surfaces) needs the target torus: --torus R:r with R > r > 0",
+            ));
+        }
+        _ => None,
+    };
 
-    let bar = Bar::new(a.quiet, method.name());
+    let bar = Bar::new(quiet, method.name());
     let mut progress = |p| bar.update(p);
     let result = match method {
         Method::Dem => {
             let mut c = dem::Config::default();
             apply_common(&mut c.epsilon, &mut c.max_iter, &mut c.dt, a);
-            dem::run(&mesh, &population, &c, &mut progress)
+            dem::run(mesh, &population, &c, &mut progress)
         }
         Method::DemShape => {
             let shape = match &a.shape {
@@ -101,18 +106,18 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
                 ..Default::default()
             };
             apply_common(&mut c.epsilon, &mut c.max_iter, &mut c.dt, a);
-            dem_shape::run(&mesh, &population, &c, &mut progress)
+            dem_shape::run(mesh, &population, &c, &mut progress)
         }
         Method::Sdem => {
             let mut c = sdem::Config::default();
             let mut dt = Some(c.dt);
             apply_common(&mut c.epsilon, &mut c.max_iter, &mut dt, a);
             c.dt = dt.unwrap_or(c.dt);
-            sdem::run(&mesh, &population, &c, &mut progress)
+            sdem::run(mesh, &population, &c, &mut progress)
         }
-        Method::SphericalConformal => spherical_conformal::run(&mesh, &population),
-        Method::CircleConformal => circle_conformal::run(&mesh, &population),
-        Method::Deq => deq::run(&mesh, &population, &deq_config(a), &mut progress),
+        Method::SphericalConformal => spherical_conformal::run(mesh, &population),
+        Method::CircleConformal => circle_conformal::run(mesh, &population),
+        Method::Deq => deq::run(mesh, &population, &deq_config(a), &mut progress),
         Method::Ldeq => {
             let mut c = ldeq::Config {
                 deq: deq_config(a),
@@ -120,7 +125,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             };
             c.eta = a.eta.unwrap_or(c.eta);
             let l = landmarks.as_deref().unwrap_or(&[]);
-            ldeq::run(&mesh, &population, l, &c, &mut progress)
+            ldeq::run(mesh, &population, l, &c, &mut progress)
         }
         Method::Lsdem => {
             let mut c = lsdem::Config::default();
@@ -131,21 +136,15 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             c.beta = a.beta.unwrap_or(c.beta);
             c.gamma = a.gamma.unwrap_or(c.gamma);
             let l = landmarks.as_deref().unwrap_or(&[]);
-            lsdem::run(&mesh, &population, l, &c, &mut progress)
+            lsdem::run(mesh, &population, l, &c, &mut progress)
         }
         Method::Tdem => {
-            let torus = match &a.torus {
-                Some(s) => parse_torus(s)?,
-                None => {
-                    bar.finish();
-                    return Err(Failure::input(
-                        "--method tdem (for genus-one closed surfaces) needs the target torus: --torus R:r with R > r > 0",
-                    ));
-                }
-            };
             let mut c = tdem::Config::default();
             apply_common(&mut c.epsilon, &mut c.max_iter, &mut c.dt, a);
-            tdem::run(&mesh, &population, &torus, &c, &mut progress)
+            match torus.as_ref() {
+                Some(torus) => tdem::run(mesh, &population, torus, &c, &mut progress),
+                None => unreachable!("a missing --torus is refused above"),
+            }
         }
         Method::Auto => {
             bar.finish();
@@ -157,31 +156,85 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     };
     bar.finish();
     let result = result?;
-    let domain = match (&result.flat_torus, &a.torus) {
+    let domain = match (&result.flat_torus, &torus) {
         (Some(flat), Some(t)) => Domain::Torus {
-            flipped: flat.count_flipped(&mesh.faces, parse_torus(t)?.periods()),
+            flipped: flat.count_flipped(&mesh.faces, t.periods()),
         },
         _ => match method {
             Method::Sdem | Method::Lsdem | Method::SphericalConformal => Domain::Sphere,
             _ => Domain::Plane,
         },
     };
+    Ok(Computed {
+        method,
+        population,
+        landmarks,
+        result,
+        domain,
+        torus,
+    })
+}
+
+/// Reads and validates a mesh, printing validation warnings unless `quiet`.
+pub fn read_valid_mesh(path: &Path, quiet: bool) -> Result<TriMesh, Failure> {
+    let mesh = demkit::io::read_mesh(path)?;
+    let (mesh, warnings) = demkit::mesh::validate::validate(mesh)?;
+    if !quiet {
+        for w in &warnings {
+            eprintln!("warning: {w}");
+        }
+    }
+    Ok(mesh)
+}
+
+/// Runs the map command; returns the exit code (0, or 3 when not converged).
+pub fn run(a: &MapArgs) -> Result<u8, Failure> {
+    let t0 = Instant::now();
+    check_output_extension(&a.out)?;
+    if let Some(uv) = &a.uv_out {
+        check_uv_extension(uv)?;
+    }
+    for png in [&a.render, &a.histogram].into_iter().flatten() {
+        crate::render::check_png_extension(png)?;
+    }
+    let mesh = read_valid_mesh(&a.mesh, a.quiet)?;
+    let topo = topology(&mesh);
+    let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
+    warn_unused(&a.m, method, a.quiet);
+    if a.uv_out.is_some()
+        && matches!(
+            method,
+            Method::Sdem | Method::Lsdem | Method::SphericalConformal
+        )
+    {
+        return Err(Failure::input(format!(
+            "--uv-out needs a planar, circle-domain or torus map, and --method {} maps onto the sphere",
+            method.name()
+        )));
+    }
+    let c = compute(&mesh, method, &a.m, a.quiet)?;
+    let result = &c.result;
     let out_mesh = TriMesh::new(result.positions.clone(), mesh.faces.clone());
     demkit::io::write_mesh(&a.out, &out_mesh)?;
     if let Some(uv) = &a.uv_out {
-        let torus = a.torus.as_deref().map(parse_torus).transpose()?;
         let texture =
-            demkit::apps::texture::texture_coordinates(&result, &mesh.faces, torus.as_ref())?;
+            demkit::apps::texture::texture_coordinates(result, &mesh.faces, c.torus.as_ref())?;
         demkit::io::write_textured_obj(uv, &mesh, &texture)?;
     }
-    let metrics = compute(
+    let metrics = compute_metrics(
         &mesh,
-        &population,
+        &c.population,
         &result.initial,
         &result.positions,
-        domain,
-        landmarks.as_deref(),
+        c.domain,
+        c.landmarks.as_deref(),
     );
+    if let Some(png) = &a.render {
+        crate::render::render_map(png, &mesh, &c)?;
+    }
+    if let Some(png) = &a.histogram {
+        crate::render::render_histograms(png, &mesh, &c)?;
+    }
     if let Some(path) = &a.report {
         let input = InputSummary {
             vertices: mesh.n_vertices(),
@@ -189,7 +242,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             boundaries: topo.boundary_loops.len(),
             genus: topo.genus,
         };
-        let report = Report::new(&result, input, &metrics, t0.elapsed().as_secs_f64());
+        let report = Report::new(result, input, &metrics, t0.elapsed().as_secs_f64());
         let text = serde_json::to_string_pretty(&report).map_err(|e| Failure {
             code: 1,
             message: e.to_string(),
@@ -222,7 +275,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
 }
 
 /// DEQ's parameters from the command line (paper defaults otherwise).
-fn deq_config(a: &MapArgs) -> deq::Config {
+fn deq_config(a: &MethodArgs) -> deq::Config {
     let mut c = deq::Config::default();
     let mut dt = Some(c.dt);
     apply_common(&mut c.epsilon, &mut c.max_iter, &mut dt, a);
@@ -233,7 +286,7 @@ fn deq_config(a: &MapArgs) -> deq::Config {
     c
 }
 
-fn apply_common(epsilon: &mut f64, max_iter: &mut usize, dt: &mut Option<f64>, a: &MapArgs) {
+fn apply_common(epsilon: &mut f64, max_iter: &mut usize, dt: &mut Option<f64>, a: &MethodArgs) {
     if let Some(e) = a.epsilon {
         *epsilon = e;
     }
@@ -246,7 +299,7 @@ fn apply_common(epsilon: &mut f64, max_iter: &mut usize, dt: &mut Option<f64>, a
 }
 
 /// `--method auto` by topology; explicit methods are checked by the methods themselves.
-fn resolve_method(a: &MapArgs, boundaries: usize, genus: i64) -> Result<Method, Failure> {
+pub fn resolve_method(a: &MethodArgs, boundaries: usize, genus: i64) -> Result<Method, Failure> {
     if a.method != Method::Auto {
         return Ok(a.method);
     }
@@ -284,7 +337,7 @@ fn check_uv_extension(path: &Path) -> Result<(), Failure> {
 }
 
 /// `--torus R:r`: the target torus of tdem.
-fn parse_torus(s: &str) -> Result<demkit::geometry::torus::Torus, Failure> {
+pub fn parse_torus(s: &str) -> Result<Torus, Failure> {
     let parts: Vec<&str> = s.split(':').collect();
     let bad = || {
         Failure::input(format!(
@@ -296,12 +349,12 @@ fn parse_torus(s: &str) -> Result<demkit::geometry::torus::Torus, Failure> {
     }
     let major: f64 = parts[0].trim().parse().map_err(|_| bad())?;
     let minor: f64 = parts[1].trim().parse().map_err(|_| bad())?;
-    demkit::geometry::torus::Torus::new(major, minor)
-        .map_err(|e| Failure::input(format!("--torus: {e}")))
+    Torus::new(major, minor).map_err(|e| Failure::input(format!("--torus: {e}")))
 }
 
-fn warn_unused(a: &MapArgs, m: Method) {
-    if a.quiet {
+/// Warns about options the chosen method does not use.
+pub fn warn_unused(a: &MethodArgs, m: Method, quiet: bool) {
+    if quiet {
         return;
     }
     let unused: Vec<&str> = [
