@@ -1,6 +1,7 @@
 //! Triangle meshes: the [`TriMesh`] type, topology, validation and welding.
 
 pub mod topology;
+pub mod triangulate;
 pub mod validate;
 pub mod weld;
 
