@@ -1,10 +1,191 @@
 //! `demkit remesh`: a new triangulation of the input surface laid out through its
-//! density-equalizing map.
+//! density-equalizing map (DEM paper §6.2, SDEM paper §5.2, DEQ paper §7.1): uniform points on
+//! the map's domain, triangulated there and pulled back onto the surface, so that the vertex
+//! density follows the population.
 
 use crate::Failure;
-use crate::args::RemeshArgs;
+use crate::args::{Method, RemeshArgs};
+use crate::map::{check_output_extension, compute, read_valid_mesh, resolve_method, warn_unused};
+use crate::report::InputSummary;
+use demkit::TriMesh;
+use demkit::apps::remesh::quality::{max_distance_to_surface, quality};
+use demkit::apps::remesh::{Target, min_vertices, remesh};
+use demkit::mesh::topology::topology;
+use demkit::metrics::compute as compute_metrics;
+use serde::Serialize;
+use std::time::Instant;
 
-/// Runs the remesh command; returns the exit code.
-pub fn run(_a: &RemeshArgs) -> Result<u8, Failure> {
-    Err(Failure::not_implemented("demkit remesh"))
+/// The report of `demkit remesh --report`.
+#[derive(Serialize)]
+struct RemeshReport {
+    method: String,
+    population: String,
+    converged: bool,
+    input: InputSummary,
+    output: InputSummary,
+    map: MapFigures,
+    quality: QualityFigures,
+    time_s: Times,
+}
+
+/// The figures of the map the remeshing went through.
+#[derive(Serialize)]
+struct MapFigures {
+    iterations: usize,
+    flipped_triangles: usize,
+    density_error_mean: f64,
+}
+
+/// The figures of the new mesh.
+#[derive(Serialize)]
+struct QualityFigures {
+    area_cv: f64,
+    median_min_angle_deg: f64,
+    min_angle_deg: f64,
+    /// The largest distance of a new vertex from the input surface over the input's
+    /// bounding-box diagonal.
+    max_distance_over_diagonal: f64,
+}
+
+/// Timings in seconds.
+#[derive(Serialize)]
+struct Times {
+    map: f64,
+    remesh: f64,
+    total: f64,
+}
+
+/// Runs the remesh command; returns the exit code (0, 1 when the map has flipped triangles, 3
+/// when the map did not converge — the mesh and the report are still written).
+pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
+    let t0 = Instant::now();
+    check_output_extension(&a.out)?;
+    let mesh = read_valid_mesh(&a.mesh, a.quiet)?;
+    let topo = topology(&mesh);
+    let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
+    warn_unused(&a.m, method, a.quiet);
+    let least = min_vertices(topo.boundary_loops.len(), topo.genus);
+    if a.vertices < least {
+        return Err(Failure::input(format!(
+            "--vertices must be at least {least} for a surface with {} boundary loops and genus {}, got {}",
+            topo.boundary_loops.len(),
+            topo.genus,
+            a.vertices
+        )));
+    }
+
+    let c = compute(&mesh, method, &a.m, a.quiet)?;
+    let result = &c.result;
+    let t_map = t0.elapsed().as_secs_f64();
+    let metrics = compute_metrics(
+        &mesh,
+        &c.population,
+        &result.initial,
+        &result.positions,
+        c.domain,
+        c.landmarks.as_deref(),
+    );
+    if metrics.flipped_triangles > 0 {
+        eprintln!(
+            "error: the {} map has {} flipped triangles; the inverse map is not defined there, so the surface cannot be remeshed through it",
+            method.name(),
+            metrics.flipped_triangles
+        );
+        return Ok(1);
+    }
+    let target = match (&result.flat_torus, &c.torus) {
+        (Some(map), Some(torus)) => Target::Torus { map, torus },
+        _ => match method {
+            Method::Sdem | Method::Lsdem | Method::SphericalConformal => Target::Sphere,
+            _ => Target::Plane,
+        },
+    };
+    let t1 = Instant::now();
+    let out = remesh(&mesh, &result.positions, target, a.vertices)?;
+    let t_remesh = t1.elapsed().as_secs_f64();
+    demkit::io::write_mesh(&a.out, &out)?;
+
+    let q = quality(&out);
+    let out_topo = topology(&out);
+    if let Some(path) = &a.report {
+        let diagonal = diagonal(&mesh);
+        let report = RemeshReport {
+            method: c.method.name().to_string(),
+            population: a.m.population.clone(),
+            converged: result.converged,
+            input: summary(&mesh),
+            output: InputSummary {
+                vertices: out.n_vertices(),
+                faces: out.n_faces(),
+                boundaries: out_topo.boundary_loops.len(),
+                genus: out_topo.genus,
+            },
+            map: MapFigures {
+                iterations: result.iterations,
+                flipped_triangles: metrics.flipped_triangles,
+                density_error_mean: metrics.density_error_mean,
+            },
+            quality: QualityFigures {
+                area_cv: q.area_cv,
+                median_min_angle_deg: q.median_min_angle_deg,
+                min_angle_deg: q.min_angle_deg,
+                max_distance_over_diagonal: max_distance_to_surface(
+                    &out.positions,
+                    &mesh,
+                    1e-6 * diagonal,
+                ) / diagonal,
+            },
+            time_s: Times {
+                map: t_map,
+                remesh: t_remesh,
+                total: t0.elapsed().as_secs_f64(),
+            },
+        };
+        let text = serde_json::to_string_pretty(&report).map_err(|e| Failure {
+            code: 1,
+            message: e.to_string(),
+        })?;
+        std::fs::write(path, text + "\n")
+            .map_err(|e| Failure::input(format!("{}: {e}", path.display())))?;
+    }
+    if !a.quiet {
+        for n in &result.notes {
+            eprintln!("note: {n}");
+        }
+        eprintln!(
+            "remesh ({}): {} vertices, {} faces, {} boundary loops, genus {}; area CV {:.3}, median smallest angle {:.1}°, {:.2} s",
+            method.name(),
+            out.n_vertices(),
+            out.n_faces(),
+            out_topo.boundary_loops.len(),
+            out_topo.genus,
+            q.area_cv,
+            q.median_min_angle_deg,
+            t0.elapsed().as_secs_f64()
+        );
+    }
+    Ok(if result.converged { 0 } else { 3 })
+}
+
+/// The input's summary for the report.
+fn summary(mesh: &TriMesh) -> InputSummary {
+    let t = topology(mesh);
+    InputSummary {
+        vertices: mesh.n_vertices(),
+        faces: mesh.n_faces(),
+        boundaries: t.boundary_loops.len(),
+        genus: t.genus,
+    }
+}
+
+/// The diagonal of the bounding box of `mesh`.
+fn diagonal(mesh: &TriMesh) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in &mesh.positions {
+        for d in 0..3 {
+            lo[d] = lo[d].min(p[d]);
+            hi[d] = hi[d].max(p[d]);
+        }
+    }
+    (0..3).map(|d| (hi[d] - lo[d]).powi(2)).sum::<f64>().sqrt()
 }

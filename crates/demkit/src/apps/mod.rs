@@ -1,3 +1,4 @@
-//! What the maps are for (the papers' applications): texture coordinates so far.
+//! What the maps are for (the papers' applications): texture coordinates and remeshing.
 
+pub mod remesh;
 pub mod texture;

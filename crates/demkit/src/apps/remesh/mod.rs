@@ -1,0 +1,119 @@
+//! Adaptive remeshing through a density-equalizing map (DEM paper §6.2, SDEM paper §5.2, DEQ
+//! paper §7.1, TDEM paper §5): near-uniform points on the map's target domain are triangulated
+//! there and pulled back onto the input surface through the inverse map (point location in the
+//! mapped mesh and barycentric interpolation of the input positions). Since the map gives every
+//! region an area proportional to its population, the new mesh's vertex density follows the
+//! population: uniform triangles for the population `area`, more vertices where the population
+//! per unit area is higher.
+//!
+//! - [`planar`]: disk and circle-domain maps (boundaries and holes kept);
+//! - [`sphere`]: maps onto the unit sphere;
+//! - [`torus`]: maps onto the flat torus.
+
+pub mod planar;
+pub mod quality;
+mod region;
+pub mod sampling;
+pub mod sphere;
+pub mod torus;
+
+use crate::geometry::torus::{FlatTorusMap, Torus};
+use crate::mesh::topology::topology;
+use crate::{Error, Result, TriMesh};
+
+/// Where the map lies.
+#[derive(Debug, Clone, Copy)]
+pub enum Target<'a> {
+    /// A planar map (z = 0): disk, prescribed shape or circle domain.
+    Plane,
+    /// A map onto the unit sphere.
+    Sphere,
+    /// A map onto the flat torus of `torus`.
+    Torus {
+        /// The map (points and lattice offsets).
+        map: &'a FlatTorusMap,
+        /// The target torus.
+        torus: &'a Torus,
+    },
+}
+
+/// The fewest vertices asked for that can keep a surface's topology: 16 for a closed genus-one
+/// surface, otherwise 4, and 4 per boundary loop with holes.
+pub fn min_vertices(boundary_loops: usize, genus: i64) -> usize {
+    if boundary_loops == 0 && genus == 1 {
+        16
+    } else {
+        (4 * boundary_loops).max(4)
+    }
+}
+
+/// A new triangulation of `input` with about `n` vertices laid out uniformly on its map
+/// `mapped` (the positions of a planar or spherical map; for the torus, `target` holds the
+/// map). Every new vertex lies on the input surface; the result has the input's genus and
+/// number of boundary loops (checked), and its faces are oriented like the input's.
+///
+/// Errors: [`Error::Argument`] when `n` is below [`min_vertices`]; [`Error::Numerical`] when
+/// the new triangulation is not a valid surface of the input's topology (a map that is not
+/// bijective can cause this).
+pub fn remesh(input: &TriMesh, mapped: &[[f64; 3]], target: Target, n: usize) -> Result<TriMesh> {
+    let topo = topology(input);
+    let least = min_vertices(topo.boundary_loops.len(), topo.genus);
+    if n < least {
+        return Err(Error::Argument(format!(
+            "--vertices must be at least {least} to keep the surface's topology, got {n}"
+        )));
+    }
+    if mapped.len() != input.n_vertices() {
+        return Err(Error::Argument(format!(
+            "the map has {} points for {} vertices",
+            mapped.len(),
+            input.n_vertices()
+        )));
+    }
+    let out = match target {
+        Target::Plane => planar::remesh_planar(input, mapped, &topo.boundary_loops, n)?,
+        Target::Sphere => sphere::remesh_sphere(input, mapped, n)?,
+        Target::Torus { map, torus } => torus::remesh_torus(input, map, torus, n)?,
+    };
+    let (out, _) = crate::mesh::validate(out)
+        .map_err(|e| Error::Numerical(format!("the new mesh is not a valid surface: {e}")))?;
+    let t = topology(&out);
+    if t.boundary_loops.len() != topo.boundary_loops.len() || t.genus != topo.genus {
+        return Err(Error::Numerical(format!(
+            "the new mesh has {} boundary loops and genus {}, the input {} and {}",
+            t.boundary_loops.len(),
+            t.genus,
+            topo.boundary_loops.len(),
+            topo.genus
+        )));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn too_few_vertices_are_refused() {
+        let input = crate::generate::regular_polygon(6, 3).unwrap();
+        let err = remesh(&input, &input.positions, Target::Plane, 3).unwrap_err();
+        assert!(err.is_input_error(), "{err}");
+        let out = remesh(&input, &input.positions, Target::Plane, 4).unwrap();
+        assert_eq!(topology(&out).boundary_loops.len(), 1);
+    }
+
+    #[test]
+    fn holes_survive_in_a_circle_domain() {
+        let input =
+            crate::generate::disk_with_holes(&[(0.4, 0.0, 0.2), (-0.4, 0.1, 0.15)], 24).unwrap();
+        let out = remesh(&input, &input.positions, Target::Plane, 600).unwrap();
+        let t = topology(&out);
+        assert_eq!((t.boundary_loops.len(), t.genus), (3, 0));
+        assert!((out.n_vertices() as f64 - 600.0).abs() <= 60.0);
+        let q = quality::quality(&out);
+        assert!(q.median_min_angle_deg > 45.0, "{q:?}");
+        assert!(q.area_cv < 0.5, "{q:?}");
+        assert!(remesh(&input, &input.positions, Target::Plane, 11).is_err());
+    }
+}

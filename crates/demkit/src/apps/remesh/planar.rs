@@ -1,0 +1,247 @@
+//! Remeshing through a planar map (DEM paper §6.2; DEQ paper §7.1 for circle domains): a
+//! hexagonal lattice inside the region the map covers, each boundary loop resampled at the
+//! lattice spacing, their constrained Delaunay triangulation (boundaries and holes kept as
+//! edges), and every point pulled back onto the input surface through the inverse map.
+
+use super::region::Region;
+use super::sampling::{OnPolyline, hex_rows, hex_spacing, resample_closed};
+use crate::geometry::locate::{PlanarLocator, interpolate};
+use crate::mesh::triangulate::{constrained_delaunay, faces_inside};
+use crate::{Error, Result, TriMesh};
+
+/// Lattice points closer than this many spacings to the boundary are left out: the resampled
+/// boundary takes their place.
+const MARGIN: f64 = 0.6;
+
+/// At most this many adjustments of the spacing to meet the requested vertex count.
+const SPACING_STEPS: usize = 12;
+
+/// The points of a planar layout: the resampled boundary loops, then the interior lattice.
+struct Layout {
+    h: f64,
+    boundary: Vec<Vec<OnPolyline>>,
+    interior: Vec<[f64; 2]>,
+}
+
+impl Layout {
+    fn len(&self) -> usize {
+        self.boundary.iter().map(Vec::len).sum::<usize>() + self.interior.len()
+    }
+}
+
+/// A new triangulation of `input` with about `n` vertices, laid out uniformly on its planar
+/// map `mapped` (z ignored) whose boundary is `loops` (the input's boundary loops as vertex
+/// indices). The result has as many boundary loops as `loops` and its faces are oriented like
+/// the input's.
+pub fn remesh_planar(
+    input: &TriMesh,
+    mapped: &[[f64; 3]],
+    loops: &[Vec<u32>],
+    n: usize,
+) -> Result<TriMesh> {
+    let signed: f64 = input
+        .faces
+        .iter()
+        .map(|f| {
+            let [a, b, c] = f.map(|v| mapped[v as usize]);
+            0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+        })
+        .sum();
+    let area = signed.abs();
+    if !(area > 0.0 && area.is_finite()) {
+        return Err(Error::Numerical(
+            "the planar map has no area to lay points on".into(),
+        ));
+    }
+    let polylines: Vec<Vec<[f64; 2]>> = loops
+        .iter()
+        .map(|l| {
+            l.iter()
+                .map(|&v| [mapped[v as usize][0], mapped[v as usize][1]])
+                .collect()
+        })
+        .collect();
+
+    let layout = fit_spacing(&polylines, area, n);
+
+    // Boundary points first (loop by loop), then the lattice.
+    let mut points: Vec<[f64; 2]> = Vec::with_capacity(layout.len());
+    let mut segments = Vec::new();
+    let mut point_loops = Vec::new();
+    for b in &layout.boundary {
+        let first = points.len();
+        points.extend(b.iter().map(|p| p.point));
+        segments.extend((0..b.len()).map(|k| [first + k, first + (k + 1) % b.len()]));
+        point_loops.push((first..first + b.len()).collect::<Vec<usize>>());
+    }
+    points.extend_from_slice(&layout.interior);
+    let cdt = constrained_delaunay(&points, &segments)?;
+    // Consecutive boundary points on a straight stretch of the boundary can close a sliver
+    // of rounding size on either side of it: never a face of the region.
+    let sliver = 1e-9 * layout.h * layout.h;
+    let mut faces: Vec<[u32; 3]> = faces_inside(&cdt.points, &cdt.faces, &point_loops)
+        .into_iter()
+        .filter(|f| {
+            let [a, b, c] = f.map(|v| cdt.points[v as usize]);
+            ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs() > sliver
+        })
+        .collect();
+    if signed < 0.0 {
+        for f in &mut faces {
+            f.swap(1, 2);
+        }
+    }
+
+    // Pull back: boundary points along their input boundary edge, the others by location.
+    let mut positions = Vec::with_capacity(points.len());
+    for (l, b) in loops.iter().zip(&layout.boundary) {
+        for p in b {
+            let (u, v) = (l[p.edge] as usize, l[(p.edge + 1) % l.len()] as usize);
+            positions.push(lerp(input.positions[u], input.positions[v], p.t));
+        }
+    }
+    let locator = PlanarLocator::new(mapped, &input.faces);
+    let region = Region::new(&polylines, 1.0);
+    let edges: Vec<(u32, u32)> = loops
+        .iter()
+        .flat_map(|l| (0..l.len()).map(move |k| (l[k], l[(k + 1) % l.len()])))
+        .collect();
+    for &p in &layout.interior {
+        let x = match locator.locate(p) {
+            Some(loc) => interpolate(&input.positions, input.faces[loc.face], loc.weights),
+            None => {
+                // Outside the map by rounding only (the lattice keeps off the boundary): the
+                // nearest boundary point.
+                let (s, t) = region.nearest_segment(p);
+                let (u, v) = edges[s];
+                lerp(input.positions[u as usize], input.positions[v as usize], t)
+            }
+        };
+        positions.push(x);
+    }
+    Ok(TriMesh::new(positions, faces))
+}
+
+/// The layout whose spacing puts closest to `n` points in the region: the spacing of a
+/// hexagonal lattice of `n` points on `area`, corrected by the square root of the count ratio
+/// until the count is within 1 % (or the steps run out).
+fn fit_spacing(polylines: &[Vec<[f64; 2]>], area: f64, n: usize) -> Layout {
+    let mut h = hex_spacing(area, n);
+    let mut best: Option<Layout> = None;
+    for _ in 0..SPACING_STEPS {
+        let layout = lay_out(polylines, h);
+        let count = layout.len().max(1);
+        let off = |l: &Layout| (l.len() as f64 - n as f64).abs();
+        let done = off(&layout) <= 0.01 * n as f64;
+        if best.as_ref().is_none_or(|b| off(&layout) < off(b)) {
+            best = Some(layout);
+        }
+        if done {
+            break;
+        }
+        h *= (count as f64 / n as f64).sqrt();
+    }
+    best.unwrap_or_else(|| lay_out(polylines, h))
+}
+
+/// The boundary loops resampled at spacing `h` and the hexagonal lattice of spacing `h` inside
+/// the region, at least [`MARGIN`]` · h` from its boundary.
+fn lay_out(polylines: &[Vec<[f64; 2]>], h: f64) -> Layout {
+    let boundary = polylines.iter().map(|p| resample_closed(p, h)).collect();
+    let margin = MARGIN * h;
+    let region = Region::new(polylines, margin);
+    let (lo, hi) = region.bounds();
+    let mut interior = Vec::new();
+    for (y, xs) in hex_rows(lo, hi, h) {
+        let cross = region.crossings(y);
+        let mut k = 0;
+        for x in xs {
+            while k < cross.len() && cross[k] < x {
+                k += 1;
+            }
+            if k % 2 == 1 && !region.near_boundary([x, y], margin) {
+                interior.push([x, y]);
+            }
+        }
+    }
+    Layout {
+        h,
+        boundary,
+        interior,
+    }
+}
+
+fn lerp(a: [f64; 3], b: [f64; 3], t: f64) -> [f64; 3] {
+    [0, 1, 2].map(|d| a[d] + t * (b[d] - a[d]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::topology::topology;
+
+    /// A unit square of 2·k² triangles, lifted onto the paraboloid z = x² + y² (its map is the
+    /// square itself).
+    fn square(k: usize) -> (TriMesh, Vec<[f64; 3]>) {
+        let mut flat = Vec::new();
+        for j in 0..=k {
+            for i in 0..=k {
+                flat.push([i as f64 / k as f64, j as f64 / k as f64, 0.0]);
+            }
+        }
+        let mut faces = Vec::new();
+        for j in 0..k {
+            for i in 0..k {
+                let v = (j * (k + 1) + i) as u32;
+                let w = v + k as u32 + 1;
+                faces.push([v, v + 1, w + 1]);
+                faces.push([v, w + 1, w]);
+            }
+        }
+        let lifted = flat
+            .iter()
+            .map(|p| [p[0], p[1], p[0] * p[0] + p[1] * p[1]])
+            .collect();
+        (TriMesh::new(lifted, faces), flat)
+    }
+
+    #[test]
+    fn a_square_map_gives_a_disk_with_the_asked_count_on_the_surface() {
+        let (input, flat) = square(8);
+        let loops = topology(&input).boundary_loops;
+        let out = remesh_planar(&input, &flat, &loops, 400).unwrap();
+        let t = topology(&out);
+        assert_eq!(t.boundary_loops.len(), 1);
+        assert_eq!(t.genus, 0);
+        assert_eq!(t.n_vertices, out.n_vertices());
+        assert!(
+            (out.n_vertices() as f64 - 400.0).abs() <= 20.0,
+            "{}",
+            out.n_vertices()
+        );
+        // Every vertex is on the paraboloid patch (linear interpolation of a flat patch's
+        // lift is exact along x and y; z lies between the chords, at most 1/(4·8²) above).
+        for p in &out.positions {
+            assert!(p[0] >= -1e-12 && p[0] <= 1.0 + 1e-12);
+            assert!(p[2] >= p[0] * p[0] + p[1] * p[1] - 1e-12);
+            assert!(p[2] <= p[0] * p[0] + p[1] * p[1] + 2.0 / 64.0);
+        }
+        // Oriented like the input: positive area in the (x, y) plane.
+        for f in &out.faces {
+            let [a, b, c] = f.map(|v| out.positions[v as usize]);
+            assert!((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) > 0.0);
+        }
+    }
+
+    #[test]
+    fn a_mirrored_map_keeps_the_input_orientation() {
+        let (input, flat) = square(6);
+        let mirrored: Vec<[f64; 3]> = flat.iter().map(|p| [-p[0], p[1], 0.0]).collect();
+        let loops = topology(&input).boundary_loops;
+        let out = remesh_planar(&input, &mirrored, &loops, 200).unwrap();
+        for f in &out.faces {
+            let [a, b, c] = f.map(|v| out.positions[v as usize]);
+            assert!((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) > 0.0);
+        }
+    }
+}
