@@ -8,14 +8,20 @@
 //!
 //! - [`planar`]: disk and circle-domain maps (boundaries and holes kept);
 //! - [`sphere`]: maps onto the unit sphere;
-//! - [`torus`]: maps onto the flat torus.
+//! - [`torus`]: maps onto the flat torus;
+//! - `relax`: flips and smoothing in the domain that improve the triangles' shapes on the
+//!   surface without taking any vertex off it.
 
+mod chart;
 pub mod planar;
 pub mod quality;
 mod region;
+mod relax;
 pub mod sampling;
 pub mod sphere;
 pub mod torus;
+
+use chart::{Chart, ChartPoint};
 
 use crate::geometry::torus::{FlatTorusMap, Torus};
 use crate::mesh::topology::topology;
@@ -37,6 +43,22 @@ pub enum Target<'a> {
     },
 }
 
+/// Points in a map's domain and their triangulation, before they are pulled back: z = 0 in the
+/// plane and on the flat torus, unit vectors on the sphere.
+#[derive(Debug, Clone)]
+pub struct Layout {
+    /// The points in the domain.
+    pub domain: Vec<[f64; 3]>,
+    /// For points that must stay where they are (boundary points), their place on the input
+    /// surface; `None` for points pulled back through the map.
+    pub fixed: Vec<Option<[f64; 3]>>,
+    /// The faces, oriented like the input's.
+    pub faces: Vec<[u32; 3]>,
+}
+
+/// Rounds of flips and smoothing after the layout is pulled back.
+pub const RELAX_ROUNDS: usize = 10;
+
 /// The fewest vertices asked for that can keep a surface's topology: 16 for a closed genus-one
 /// surface, otherwise 4, and 4 per boundary loop with holes.
 pub fn min_vertices(boundary_loops: usize, genus: i64) -> usize {
@@ -49,13 +71,33 @@ pub fn min_vertices(boundary_loops: usize, genus: i64) -> usize {
 
 /// A new triangulation of `input` with about `n` vertices laid out uniformly on its map
 /// `mapped` (the positions of a planar or spherical map; for the torus, `target` holds the
-/// map). Every new vertex lies on the input surface; the result has the input's genus and
-/// number of boundary loops (checked), and its faces are oriented like the input's.
+/// map), followed by [`RELAX_ROUNDS`] rounds of shape improvement in the domain that keep the
+/// vertex density following `population` (one value per input face). Every new vertex lies on
+/// the input surface; the result has the input's genus and number of boundary loops (checked),
+/// and its faces are oriented like the input's.
 ///
-/// Errors: [`Error::Argument`] when `n` is below [`min_vertices`]; [`Error::Numerical`] when
-/// the new triangulation is not a valid surface of the input's topology (a map that is not
-/// bijective can cause this).
-pub fn remesh(input: &TriMesh, mapped: &[[f64; 3]], target: Target, n: usize) -> Result<TriMesh> {
+/// Errors: [`Error::Argument`] when `n` is below [`min_vertices`] or the population does not
+/// fit; [`Error::Numerical`] when the new triangulation is not a valid surface of the input's
+/// topology (a map that is not bijective can cause this).
+pub fn remesh(
+    input: &TriMesh,
+    population: &[f64],
+    mapped: &[[f64; 3]],
+    target: Target,
+    n: usize,
+) -> Result<TriMesh> {
+    remesh_with(input, population, mapped, target, n, RELAX_ROUNDS)
+}
+
+/// [`remesh`] with `rounds` rounds of shape improvement (0: the plain pulled-back layout).
+pub fn remesh_with(
+    input: &TriMesh,
+    population: &[f64],
+    mapped: &[[f64; 3]],
+    target: Target,
+    n: usize,
+    rounds: usize,
+) -> Result<TriMesh> {
     let topo = topology(input);
     let least = min_vertices(topo.boundary_loops.len(), topo.genus);
     if n < least {
@@ -70,11 +112,50 @@ pub fn remesh(input: &TriMesh, mapped: &[[f64; 3]], target: Target, n: usize) ->
             input.n_vertices()
         )));
     }
-    let out = match target {
-        Target::Plane => planar::remesh_planar(input, mapped, &topo.boundary_loops, n)?,
-        Target::Sphere => sphere::remesh_sphere(input, mapped, n)?,
-        Target::Torus { map, torus } => torus::remesh_torus(input, map, torus, n)?,
+    if population.len() != input.n_faces() {
+        return Err(Error::Argument(format!(
+            "the population has {} values for {} faces",
+            population.len(),
+            input.n_faces()
+        )));
+    }
+    let layout = match target {
+        Target::Plane => planar::layout_planar(input, mapped, &topo.boundary_loops, n)?,
+        Target::Sphere => sphere::layout_sphere(n)?,
+        Target::Torus { torus, .. } => torus::layout_torus(torus, n),
     };
+    let chart = Chart::new(input, mapped, target);
+    let points: Vec<ChartPoint> = layout
+        .domain
+        .iter()
+        .zip(&layout.fixed)
+        .map(|(&p, fixed)| match fixed {
+            Some(x) => ChartPoint {
+                domain: p,
+                face: usize::MAX,
+                position: *x,
+            },
+            None => chart.pull_or_nearest(p),
+        })
+        .collect();
+    let mut draft = relax::Draft {
+        fixed: points.iter().map(|p| p.face == usize::MAX).collect(),
+        points,
+        faces: layout.faces,
+    };
+    if rounds > 0 {
+        let areas = crate::geometry::face_areas(&input.positions, &input.faces);
+        let density: Vec<f64> = population
+            .iter()
+            .zip(&areas)
+            .map(|(p, a)| if *a > 0.0 { p / a } else { 1.0 })
+            .collect();
+        relax::relax(&mut draft, &chart, &density, rounds);
+    }
+    let out = TriMesh::new(
+        draft.points.iter().map(|p| p.position).collect(),
+        draft.faces,
+    );
     let (out, _) = crate::mesh::validate(out)
         .map_err(|e| Error::Numerical(format!("the new mesh is not a valid surface: {e}")))?;
     let t = topology(&out);
@@ -97,9 +178,10 @@ mod tests {
     #[test]
     fn too_few_vertices_are_refused() {
         let input = crate::generate::regular_polygon(6, 3).unwrap();
-        let err = remesh(&input, &input.positions, Target::Plane, 3).unwrap_err();
+        let pop = vec![1.0; input.n_faces()];
+        let err = remesh(&input, &pop, &input.positions, Target::Plane, 3).unwrap_err();
         assert!(err.is_input_error(), "{err}");
-        let out = remesh(&input, &input.positions, Target::Plane, 4).unwrap();
+        let out = remesh(&input, &pop, &input.positions, Target::Plane, 4).unwrap();
         assert_eq!(topology(&out).boundary_loops.len(), 1);
     }
 
@@ -107,13 +189,14 @@ mod tests {
     fn holes_survive_in_a_circle_domain() {
         let input =
             crate::generate::disk_with_holes(&[(0.4, 0.0, 0.2), (-0.4, 0.1, 0.15)], 24).unwrap();
-        let out = remesh(&input, &input.positions, Target::Plane, 600).unwrap();
+        let pop = crate::geometry::face_areas(&input.positions, &input.faces);
+        let out = remesh(&input, &pop, &input.positions, Target::Plane, 600).unwrap();
         let t = topology(&out);
         assert_eq!((t.boundary_loops.len(), t.genus), (3, 0));
         assert!((out.n_vertices() as f64 - 600.0).abs() <= 60.0);
         let q = quality::quality(&out);
         assert!(q.median_min_angle_deg > 45.0, "{q:?}");
         assert!(q.area_cv < 0.5, "{q:?}");
-        assert!(remesh(&input, &input.positions, Target::Plane, 11).is_err());
+        assert!(remesh(&input, &pop, &input.positions, Target::Plane, 11).is_err());
     }
 }

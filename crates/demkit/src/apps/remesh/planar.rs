@@ -3,9 +3,9 @@
 //! lattice spacing, their constrained Delaunay triangulation (boundaries and holes kept as
 //! edges), and every point pulled back onto the input surface through the inverse map.
 
+use super::Layout;
 use super::region::Region;
 use super::sampling::{OnPolyline, hex_rows, hex_spacing, resample_closed};
-use crate::geometry::locate::{PlanarLocator, interpolate};
 use crate::mesh::triangulate::{constrained_delaunay, faces_inside};
 use crate::{Error, Result, TriMesh};
 
@@ -16,29 +16,29 @@ const MARGIN: f64 = 0.6;
 /// At most this many adjustments of the spacing to meet the requested vertex count.
 const SPACING_STEPS: usize = 12;
 
-/// The points of a planar layout: the resampled boundary loops, then the interior lattice.
-struct Layout {
+/// Where the points go for one spacing: the resampled boundary loops and the interior lattice.
+struct Placement {
     h: f64,
     boundary: Vec<Vec<OnPolyline>>,
     interior: Vec<[f64; 2]>,
 }
 
-impl Layout {
+impl Placement {
     fn len(&self) -> usize {
         self.boundary.iter().map(Vec::len).sum::<usize>() + self.interior.len()
     }
 }
 
-/// A new triangulation of `input` with about `n` vertices, laid out uniformly on its planar
-/// map `mapped` (z ignored) whose boundary is `loops` (the input's boundary loops as vertex
-/// indices). The result has as many boundary loops as `loops` and its faces are oriented like
-/// the input's.
-pub fn remesh_planar(
+/// About `n` points laid out uniformly on the planar map `mapped` (z ignored) of `input`, whose
+/// boundary is `loops` (the input's boundary loops as vertex indices), and their triangulation
+/// with as many boundary loops, faces oriented like the input's. Boundary points are fixed at
+/// their place on the input's boundary edges.
+pub fn layout_planar(
     input: &TriMesh,
     mapped: &[[f64; 3]],
     loops: &[Vec<u32>],
     n: usize,
-) -> Result<TriMesh> {
+) -> Result<Layout> {
     let signed: f64 = input
         .faces
         .iter()
@@ -92,46 +92,32 @@ pub fn remesh_planar(
         }
     }
 
-    // Pull back: boundary points along their input boundary edge, the others by location.
-    let mut positions = Vec::with_capacity(points.len());
+    // Boundary points sit on their input boundary edge.
+    let mut fixed = Vec::with_capacity(points.len());
     for (l, b) in loops.iter().zip(&layout.boundary) {
         for p in b {
             let (u, v) = (l[p.edge] as usize, l[(p.edge + 1) % l.len()] as usize);
-            positions.push(lerp(input.positions[u], input.positions[v], p.t));
+            fixed.push(Some(lerp(input.positions[u], input.positions[v], p.t)));
         }
     }
-    let locator = PlanarLocator::new(mapped, &input.faces);
-    let region = Region::new(&polylines, 1.0);
-    let edges: Vec<(u32, u32)> = loops
-        .iter()
-        .flat_map(|l| (0..l.len()).map(move |k| (l[k], l[(k + 1) % l.len()])))
-        .collect();
-    for &p in &layout.interior {
-        let x = match locator.locate(p) {
-            Some(loc) => interpolate(&input.positions, input.faces[loc.face], loc.weights),
-            None => {
-                // Outside the map by rounding only (the lattice keeps off the boundary): the
-                // nearest boundary point.
-                let (s, t) = region.nearest_segment(p);
-                let (u, v) = edges[s];
-                lerp(input.positions[u as usize], input.positions[v as usize], t)
-            }
-        };
-        positions.push(x);
-    }
-    Ok(TriMesh::new(positions, faces))
+    fixed.resize(points.len(), None);
+    Ok(Layout {
+        domain: points.iter().map(|p| [p[0], p[1], 0.0]).collect(),
+        fixed,
+        faces,
+    })
 }
 
 /// The layout whose spacing puts closest to `n` points in the region: the spacing of a
 /// hexagonal lattice of `n` points on `area`, corrected by the square root of the count ratio
 /// until the count is within 1 % (or the steps run out).
-fn fit_spacing(polylines: &[Vec<[f64; 2]>], area: f64, n: usize) -> Layout {
+fn fit_spacing(polylines: &[Vec<[f64; 2]>], area: f64, n: usize) -> Placement {
     let mut h = hex_spacing(area, n);
-    let mut best: Option<Layout> = None;
+    let mut best: Option<Placement> = None;
     for _ in 0..SPACING_STEPS {
         let layout = lay_out(polylines, h);
         let count = layout.len().max(1);
-        let off = |l: &Layout| (l.len() as f64 - n as f64).abs();
+        let off = |l: &Placement| (l.len() as f64 - n as f64).abs();
         let done = off(&layout) <= 0.01 * n as f64;
         if best.as_ref().is_none_or(|b| off(&layout) < off(b)) {
             best = Some(layout);
@@ -146,7 +132,7 @@ fn fit_spacing(polylines: &[Vec<[f64; 2]>], area: f64, n: usize) -> Layout {
 
 /// The boundary loops resampled at spacing `h` and the hexagonal lattice of spacing `h` inside
 /// the region, at least [`MARGIN`]` · h` from its boundary.
-fn lay_out(polylines: &[Vec<[f64; 2]>], h: f64) -> Layout {
+fn lay_out(polylines: &[Vec<[f64; 2]>], h: f64) -> Placement {
     let boundary = polylines.iter().map(|p| resample_closed(p, h)).collect();
     let margin = MARGIN * h;
     let region = Region::new(polylines, margin);
@@ -164,7 +150,7 @@ fn lay_out(polylines: &[Vec<[f64; 2]>], h: f64) -> Layout {
             }
         }
     }
-    Layout {
+    Placement {
         h,
         boundary,
         interior,
@@ -203,6 +189,16 @@ mod tests {
             .map(|p| [p[0], p[1], p[0] * p[0] + p[1] * p[1]])
             .collect();
         (TriMesh::new(lifted, faces), flat)
+    }
+
+    fn remesh_planar(
+        input: &TriMesh,
+        mapped: &[[f64; 3]],
+        _loops: &[Vec<u32>],
+        n: usize,
+    ) -> Result<TriMesh> {
+        let area = crate::geometry::face_areas(&input.positions, &input.faces);
+        super::super::remesh(input, &area, mapped, super::super::Target::Plane, n)
     }
 
     #[test]

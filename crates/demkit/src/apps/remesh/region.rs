@@ -109,6 +109,7 @@ impl Region {
     }
 
     /// The boundary segment nearest to `p` and the parameter of the nearest point on it.
+    #[cfg(test)]
     pub fn nearest_segment(&self, p: [f64; 2]) -> (usize, f64) {
         let mut best = (usize::MAX, 0.0, f64::INFINITY);
         for (s, seg) in self.segments.iter().enumerate() {

@@ -2,41 +2,34 @@
 //! (a Fibonacci spiral), their Delaunay triangulation (the convex hull), and every point pulled
 //! back onto the input surface through the inverse map.
 
+use super::Layout;
 use super::sampling::fibonacci_sphere;
-use crate::geometry::locate::{SphericalLocator, interpolate};
+use crate::Result;
 use crate::mesh::triangulate::spherical_delaunay;
-use crate::{Result, TriMesh};
 
-/// A new closed genus-0 triangulation of `input` with `n` vertices, laid out uniformly on its
-/// spherical map `mapped` (unit vectors); faces oriented outward like the input's on the sphere.
-pub fn remesh_sphere(input: &TriMesh, mapped: &[[f64; 3]], n: usize) -> Result<TriMesh> {
+/// `n` (at least 4) near-uniform points on the unit sphere and their Delaunay triangulation,
+/// faces oriented outward (like the input's on a spherical map).
+pub fn layout_sphere(n: usize) -> Result<Layout> {
     let points = fibonacci_sphere(n.max(4));
     let faces = spherical_delaunay(&points)?;
-    let locator = SphericalLocator::new(mapped, &input.faces);
-    let positions = points
-        .iter()
-        .map(|&p| match locator.locate(p) {
-            Some(loc) => interpolate(&input.positions, input.faces[loc.face], loc.weights),
-            // Only if the map leaves a gap (it covers the sphere when bijective): the input
-            // vertex whose image is nearest.
-            None => input.positions[nearest(mapped, p)],
-        })
-        .collect();
-    Ok(TriMesh::new(positions, faces))
-}
-
-fn nearest(points: &[[f64; 3]], p: [f64; 3]) -> usize {
-    let d2 = |q: &[f64; 3]| (0..3).map(|d| (q[d] - p[d]).powi(2)).sum::<f64>();
-    (0..points.len())
-        .min_by(|&a, &b| d2(&points[a]).total_cmp(&d2(&points[b])))
-        .unwrap_or(0)
+    Ok(Layout {
+        fixed: vec![None; points.len()],
+        domain: points,
+        faces,
+    })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::TriMesh;
     use crate::generate;
     use crate::mesh::topology::topology;
+
+    fn remesh_sphere(input: &TriMesh, mapped: &[[f64; 3]], n: usize) -> Result<TriMesh> {
+        let area = crate::geometry::face_areas(&input.positions, &input.faces);
+        super::super::remesh(input, &area, mapped, super::super::Target::Sphere, n)
+    }
 
     #[test]
     fn an_ellipsoid_through_its_radial_map_stays_on_the_ellipsoid() {

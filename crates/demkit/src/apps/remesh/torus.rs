@@ -5,52 +5,20 @@
 //! strips of triangles, which closes the mesh into a torus by construction. Every point is then
 //! pulled back onto the input surface through the inverse map.
 
-use crate::geometry::locate::{PeriodicLocator, interpolate};
-use crate::geometry::torus::{FlatTorusMap, Torus};
-use crate::{Result, TriMesh};
+use super::Layout;
+use crate::geometry::torus::Torus;
 use std::f64::consts::PI;
 
 /// At most this many adjustments of the spacing to meet the requested vertex count.
 const SPACING_STEPS: usize = 12;
 
-/// A layout on the flat torus: points `(u, v) = (Rφ, rθ)` and counter-clockwise faces.
-#[derive(Debug, Clone)]
-pub struct TorusLayout {
-    /// Points in the flat torus of [`Torus::periods`].
-    pub points: Vec<[f64; 2]>,
-    /// Counter-clockwise faces in the flat coordinates (across the periods where they wrap).
-    pub faces: Vec<[u32; 3]>,
-}
-
-/// A new closed genus-one triangulation of `input` with about `n` vertices (at least 16), laid
-/// out uniformly on the torus `torus` and pulled back through the flat-torus map `map`.
-pub fn remesh_torus(
-    input: &TriMesh,
-    map: &FlatTorusMap,
-    torus: &Torus,
-    n: usize,
-) -> Result<TriMesh> {
-    let layout = torus_layout(torus, n);
-    let locator = PeriodicLocator::new(map, &input.faces, torus.periods());
-    let positions = layout
-        .points
-        .iter()
-        .map(|&p| match locator.locate(p) {
-            Some(loc) => interpolate(&input.positions, input.faces[loc.face], loc.weights),
-            // Only if the map leaves a gap (a bijective map covers the flat torus): the input
-            // vertex whose image is nearest modulo the periods.
-            None => input.positions[nearest(&map.points, p, torus.periods())],
-        })
-        .collect();
-    Ok(TriMesh::new(positions, layout.faces))
-}
-
-/// About `n` points uniformly spread over the torus of revolution, in flat coordinates, joined
+/// About `n` points uniformly spread over the torus of revolution, in flat coordinates `(u, v) =
+/// (Rφ, rθ)` (z = 0), joined
 /// into a closed genus-one triangulation: an even number (≥ 4) of rings of constant θ, `h√3/2`
 /// apart along the tube, each with `max(3, round(2π(R + r cos θ)/h))` points `h` apart
 /// (alternate rings shifted by half a step), so that triangles are close to equilateral on the
 /// torus; `h` is adjusted until the count is within 1 % of `n` (or the steps run out).
-pub fn torus_layout(torus: &Torus, n: usize) -> TorusLayout {
+pub fn layout_torus(torus: &Torus, n: usize) -> Layout {
     let (big, small) = (torus.major, torus.minor);
     let area = 4.0 * PI * PI * big * small;
     let mut h = super::sampling::hex_spacing(area, n);
@@ -90,7 +58,7 @@ fn ring_angle(j: usize, m: usize) -> f64 {
 
 /// The points of every ring and the strips of triangles between consecutive rings (the last
 /// ring joined to the first across the period).
-fn join_rings(torus: &Torus, rings: &[usize]) -> TorusLayout {
+fn join_rings(torus: &Torus, rings: &[usize]) -> Layout {
     let [a, b] = torus.periods();
     let m = rings.len();
     let mut first = Vec::with_capacity(m + 1);
@@ -116,7 +84,11 @@ fn join_rings(torus: &Torus, rings: &[usize]) -> TorusLayout {
             &mut faces,
         );
     }
-    TorusLayout { points, faces }
+    Layout {
+        fixed: vec![None; points.len()],
+        domain: points.iter().map(|p| [p[0], p[1], 0.0]).collect(),
+        faces,
+    }
 }
 
 /// Triangulates the band between ring `lower` and ring `upper` (each `(first index, size)`):
@@ -195,31 +167,22 @@ fn dist3(torus: &Torus, p: [f64; 2], q: [f64; 2]) -> f64 {
     (0..3).map(|d| (x[d] - y[d]).powi(2)).sum::<f64>().sqrt()
 }
 
-fn nearest(points: &[[f64; 2]], p: [f64; 2], period: [f64; 2]) -> usize {
-    let d2 = |q: &[f64; 2]| {
-        (0..2)
-            .map(|d| {
-                let x = (q[d] - p[d]).rem_euclid(period[d]);
-                x.min(period[d] - x).powi(2)
-            })
-            .sum::<f64>()
-    };
-    (0..points.len())
-        .min_by(|&a, &b| d2(&points[a]).total_cmp(&d2(&points[b])))
-        .unwrap_or(0)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::TriMesh;
+    use crate::geometry::torus::FlatTorusMap;
     use crate::mesh::topology::topology;
 
     #[test]
     fn the_layout_is_a_closed_torus_with_the_asked_count() {
         let t = Torus::new(2.0, 1.0).unwrap();
         for n in [16, 100, 1000, 5000] {
-            let l = torus_layout(&t, n);
-            let mesh = TriMesh::new(l.points.iter().map(|p| t.project(*p)).collect(), l.faces);
+            let l = layout_torus(&t, n);
+            let mesh = TriMesh::new(
+                l.domain.iter().map(|p| t.project([p[0], p[1]])).collect(),
+                l.faces,
+            );
             let topo = topology(&mesh);
             assert_eq!(topo.boundary_loops.len(), 0, "n = {n}");
             assert_eq!(topo.genus, 1, "n = {n}");
@@ -248,7 +211,12 @@ mod tests {
         let input = crate::generate::torus(3.0, 1.0, 60, 20).unwrap();
         let map = FlatTorusMap::from_surface(&input.positions, &input.faces, &t);
         assert_eq!(map.count_flipped(&input.faces, t.periods()), 0);
-        let out = remesh_torus(&input, &map, &t, 800).unwrap();
+        let area = crate::geometry::face_areas(&input.positions, &input.faces);
+        let target = super::super::Target::Torus {
+            map: &map,
+            torus: &t,
+        };
+        let out = super::super::remesh(&input, &area, &input.positions, target, 800).unwrap();
         let topo = topology(&out);
         assert_eq!((topo.boundary_loops.len(), topo.genus), (0, 1));
         // On the input's chords: inside the torus by at most the sagitta of its cells.
