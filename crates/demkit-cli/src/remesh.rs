@@ -15,6 +15,10 @@ use demkit::metrics::compute as compute_metrics;
 use serde::Serialize;
 use std::time::Instant;
 
+/// Above this mean |log(area share / population share)| the map is said to equalize the density
+/// only roughly.
+const DENSITY_ERROR_WARNING: f64 = 0.25;
+
 /// The report of `demkit remesh --report`.
 #[derive(Serialize)]
 struct RemeshReport {
@@ -92,6 +96,13 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
             metrics.flipped_triangles
         );
         return Ok(1);
+    }
+    if !a.quiet && metrics.density_error_mean > DENSITY_ERROR_WARNING {
+        eprintln!(
+            "warning: the {} map equalizes the density only roughly (density error {:.2}); the new mesh's vertex density follows the map, so it follows the population only as well",
+            method.name(),
+            metrics.density_error_mean
+        );
     }
     let target = match (&result.flat_torus, &c.torus) {
         (Some(map), Some(torus)) => Target::Torus { map, torus },
