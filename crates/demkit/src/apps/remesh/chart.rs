@@ -186,3 +186,55 @@ fn face_corners(points: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<[[f64; 3]; 3]> {
 fn cross2(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two triangles of the unit square in space (tilted), mapped affinely onto the plane.
+    fn tilted_square() -> (TriMesh, Vec<[f64; 3]>) {
+        let input = TriMesh::new(
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 1.0],
+                [1.0, 1.0, 1.0],
+                [0.0, 1.0, 0.0],
+            ],
+            vec![[0, 1, 2], [0, 2, 3]],
+        );
+        // (x, y, z) ↦ (3x, y): a stretched domain.
+        let mapped = input
+            .positions
+            .iter()
+            .map(|p| [3.0 * p[0], p[1], 0.0])
+            .collect();
+        (input, mapped)
+    }
+
+    #[test]
+    fn pulling_back_inverts_an_affine_map() {
+        let (input, mapped) = tilted_square();
+        let chart = Chart::new(&input, &mapped, Target::Plane);
+        let p = chart.pull([1.5, 0.25, 0.0]).unwrap();
+        for (a, b) in p.position.iter().zip([0.5, 0.25, 0.5]) {
+            assert!((a - b).abs() < 1e-12);
+        }
+        assert!(chart.pull([3.5, 0.5, 0.0]).is_none());
+        let far = chart.pull_or_nearest([3.5, 0.9, 0.0]);
+        assert_eq!(far.position, [1.0, 1.0, 1.0]);
+        assert!(chart.orientation([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]) > 0.0);
+    }
+
+    #[test]
+    fn a_move_on_the_surface_becomes_the_matching_move_in_the_domain() {
+        let (input, mapped) = tilted_square();
+        let chart = Chart::new(&input, &mapped, Target::Plane);
+        let p = chart.pull([1.5, 0.25, 0.0]).unwrap();
+        // Along the surface by (0.1, 0, 0.1): x grows by 0.1, so the domain's u by 0.3.
+        let q = chart.displaced(p.domain, p.face, [0.1, 0.0, 0.1]).unwrap();
+        assert!((q[0] - 1.8).abs() < 1e-12 && (q[1] - 0.25).abs() < 1e-12);
+        // The normal part of a move is dropped.
+        let r = chart.displaced(p.domain, p.face, [-0.1, 0.0, 0.1]).unwrap();
+        assert!((r[0] - 1.5).abs() < 1e-12 && (r[1] - 0.25).abs() < 1e-12);
+    }
+}

@@ -119,8 +119,14 @@ pub fn remesh_with(
             input.n_faces()
         )));
     }
+    let areas = crate::geometry::face_areas(&input.positions, &input.faces);
+    let density: Vec<f64> = population
+        .iter()
+        .zip(&areas)
+        .map(|(p, a)| if *a > 0.0 { p / a } else { 1.0 })
+        .collect();
     let layout = match target {
-        Target::Plane => planar::layout_planar(input, mapped, &topo.boundary_loops, n)?,
+        Target::Plane => planar::layout_planar(input, &density, mapped, &topo.boundary_loops, n)?,
         Target::Sphere => sphere::layout_sphere(n)?,
         Target::Torus { torus, .. } => torus::layout_torus(torus, n),
     };
@@ -144,12 +150,6 @@ pub fn remesh_with(
         faces: layout.faces,
     };
     if rounds > 0 {
-        let areas = crate::geometry::face_areas(&input.positions, &input.faces);
-        let density: Vec<f64> = population
-            .iter()
-            .zip(&areas)
-            .map(|(p, a)| if *a > 0.0 { p / a } else { 1.0 })
-            .collect();
         relax::relax(&mut draft, &chart, &density, rounds);
     }
     let out = TriMesh::new(

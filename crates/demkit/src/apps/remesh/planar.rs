@@ -8,6 +8,7 @@ use super::region::Region;
 use super::sampling::{OnPolyline, hex_rows, hex_spacing, resample_closed};
 use crate::mesh::triangulate::{constrained_delaunay, faces_inside};
 use crate::{Error, Result, TriMesh};
+use std::collections::HashMap;
 
 /// Lattice points closer than this many spacings to the boundary are left out: the resampled
 /// boundary takes their place.
@@ -32,9 +33,12 @@ impl Placement {
 /// About `n` points laid out uniformly on the planar map `mapped` (z ignored) of `input`, whose
 /// boundary is `loops` (the input's boundary loops as vertex indices), and their triangulation
 /// with as many boundary loops, faces oriented like the input's. Boundary points are fixed at
-/// their place on the input's boundary edges.
+/// their place on the input's boundary edges, spaced along the input's boundary as the
+/// population asks (`density`: population per unit area of every input face), so that a map
+/// that stretches its boundary does not crowd or thin the points there.
 pub fn layout_planar(
     input: &TriMesh,
+    density: &[f64],
     mapped: &[[f64; 3]],
     loops: &[Vec<u32>],
     n: usize,
@@ -62,7 +66,11 @@ pub fn layout_planar(
         })
         .collect();
 
-    let layout = fit_spacing(&polylines, area, n);
+    let surface_area: f64 = crate::geometry::face_areas(&input.positions, &input.faces)
+        .iter()
+        .sum();
+    let measured = boundary_lengths(input, density, loops, area / surface_area);
+    let layout = fit_spacing(&polylines, &measured, area, n);
 
     // Boundary points first (loop by loop), then the lattice.
     let mut points: Vec<[f64; 2]> = Vec::with_capacity(layout.len());
@@ -111,11 +119,16 @@ pub fn layout_planar(
 /// The layout whose spacing puts closest to `n` points in the region: the spacing of a
 /// hexagonal lattice of `n` points on `area`, corrected by the square root of the count ratio
 /// until the count is within 1 % (or the steps run out).
-fn fit_spacing(polylines: &[Vec<[f64; 2]>], area: f64, n: usize) -> Placement {
+fn fit_spacing(
+    polylines: &[Vec<[f64; 2]>],
+    lengths: &[Vec<f64>],
+    area: f64,
+    n: usize,
+) -> Placement {
     let mut h = hex_spacing(area, n);
     let mut best: Option<Placement> = None;
     for _ in 0..SPACING_STEPS {
-        let layout = lay_out(polylines, h);
+        let layout = lay_out(polylines, lengths, h);
         let count = layout.len().max(1);
         let off = |l: &Placement| (l.len() as f64 - n as f64).abs();
         let done = off(&layout) <= 0.01 * n as f64;
@@ -127,13 +140,17 @@ fn fit_spacing(polylines: &[Vec<[f64; 2]>], area: f64, n: usize) -> Placement {
         }
         h *= (count as f64 / n as f64).sqrt();
     }
-    best.unwrap_or_else(|| lay_out(polylines, h))
+    best.unwrap_or_else(|| lay_out(polylines, lengths, h))
 }
 
 /// The boundary loops resampled at spacing `h` and the hexagonal lattice of spacing `h` inside
 /// the region, at least [`MARGIN`]` · h` from its boundary.
-fn lay_out(polylines: &[Vec<[f64; 2]>], h: f64) -> Placement {
-    let boundary = polylines.iter().map(|p| resample_closed(p, h)).collect();
+fn lay_out(polylines: &[Vec<[f64; 2]>], lengths: &[Vec<f64>], h: f64) -> Placement {
+    let boundary = polylines
+        .iter()
+        .zip(lengths)
+        .map(|(p, l)| resample_closed(p, l, h))
+        .collect();
     let margin = MARGIN * h;
     let region = Region::new(polylines, margin);
     let (lo, hi) = region.bounds();
@@ -155,6 +172,44 @@ fn lay_out(polylines: &[Vec<[f64; 2]>], h: f64) -> Placement {
         boundary,
         interior,
     }
+}
+
+/// The length of every boundary edge as the domain should see it: its length on the surface
+/// times the square root of its face's density over the mean density (where the population is
+/// denser, points are closer), scaled by `√scale` (`scale`: the map's area over the surface's).
+fn boundary_lengths(
+    input: &TriMesh,
+    density: &[f64],
+    loops: &[Vec<u32>],
+    scale: f64,
+) -> Vec<Vec<f64>> {
+    let mut face_of: HashMap<(u32, u32), usize> = HashMap::new();
+    for (f, t) in input.faces.iter().enumerate() {
+        for k in 0..3 {
+            face_of.insert((t[k], t[(k + 1) % 3]), f);
+        }
+    }
+    let areas = crate::geometry::face_areas(&input.positions, &input.faces);
+    let mean =
+        density.iter().zip(&areas).map(|(d, a)| d * a).sum::<f64>() / areas.iter().sum::<f64>();
+    loops
+        .iter()
+        .map(|l| {
+            (0..l.len())
+                .map(|k| {
+                    let (u, v) = (l[k], l[(k + 1) % l.len()]);
+                    let rho = face_of
+                        .get(&(u, v))
+                        .map(|&f| density[f] / mean)
+                        .filter(|r| r.is_finite() && *r > 0.0)
+                        .unwrap_or(1.0);
+                    let (a, b) = (input.positions[u as usize], input.positions[v as usize]);
+                    let len = (0..3).map(|d| (a[d] - b[d]).powi(2)).sum::<f64>().sqrt();
+                    len * (rho * scale).sqrt()
+                })
+                .collect()
+        })
+        .collect()
 }
 
 fn lerp(a: [f64; 3], b: [f64; 3], t: f64) -> [f64; 3] {

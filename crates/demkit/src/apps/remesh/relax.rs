@@ -206,3 +206,41 @@ fn flip_pass(draft: &mut Draft, chart: &Chart) -> usize {
     }
     count
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Target, quality::quality, remesh_with};
+    use crate::TriMesh;
+    use crate::mesh::topology::topology;
+
+    /// A flat square of 2·k² triangles whose map stretches x by 4: a uniform lattice in the
+    /// domain pulls back to triangles squeezed by 4 along x.
+    fn squeezed(k: usize) -> (TriMesh, Vec<[f64; 3]>) {
+        let input = crate::generate::square_grid(k, k, 1.0, 1.0).unwrap();
+        let mapped = input
+            .positions
+            .iter()
+            .map(|p| [4.0 * p[0], p[1], 0.0])
+            .collect();
+        (input, mapped)
+    }
+
+    #[test]
+    fn relaxing_undoes_the_stretch_of_a_map() {
+        let (input, mapped) = squeezed(10);
+        let area = crate::geometry::face_areas(&input.positions, &input.faces);
+        let plain = remesh_with(&input, &area, &mapped, Target::Plane, 400, 0).unwrap();
+        let relaxed = remesh_with(&input, &area, &mapped, Target::Plane, 400, 10).unwrap();
+        let (q0, q1) = (quality(&plain), quality(&relaxed));
+        assert!(q0.median_min_angle_deg < 20.0, "{q0:?}");
+        assert!(q1.median_min_angle_deg > 40.0, "{q1:?}");
+        // Same vertex count and topology, every vertex still on the square.
+        assert_eq!(plain.n_vertices(), relaxed.n_vertices());
+        let t = topology(&relaxed);
+        assert_eq!((t.boundary_loops.len(), t.genus), (1, 0));
+        for p in &relaxed.positions {
+            assert!(p[2] == 0.0 && (-1e-12..=1.0 + 1e-12).contains(&p[0]));
+            assert!((-1e-12..=1.0 + 1e-12).contains(&p[1]));
+        }
+    }
+}

@@ -51,11 +51,11 @@ pub struct OnPolyline {
     pub point: [f64; 2],
 }
 
-/// `max(3, round(L / h))` points equally spaced by arc length along the closed polyline `poly`
-/// (of length L), the first at `poly[0]`.
-pub fn resample_closed(poly: &[[f64; 2]], h: f64) -> Vec<OnPolyline> {
+/// `max(3, round(L / h))` points along the closed polyline `poly`, the first at `poly[0]`,
+/// equally spaced with respect to the edge lengths `lengths` (edge `e` from `poly[e]` to
+/// `poly[e + 1]`; L their sum), which may measure the edges otherwise than `poly` draws them.
+pub fn resample_closed(poly: &[[f64; 2]], lengths: &[f64], h: f64) -> Vec<OnPolyline> {
     let m = poly.len();
-    let lengths: Vec<f64> = (0..m).map(|e| dist(poly[e], poly[(e + 1) % m])).collect();
     let total: f64 = lengths.iter().sum();
     let n = ((total / h).round() as usize).max(3);
     let mut out = Vec::with_capacity(n);
@@ -129,7 +129,8 @@ mod tests {
     #[test]
     fn resampling_a_square_spaces_points_evenly() {
         let sq = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
-        let pts = resample_closed(&sq, 0.1);
+        let sides = [1.0; 4];
+        let pts = resample_closed(&sq, &sides, 0.1);
         assert_eq!(pts.len(), 40);
         for (k, p) in pts.iter().enumerate() {
             let q = pts[(k + 1) % pts.len()].point;
@@ -138,7 +139,12 @@ mod tests {
             let on = [a[0] + p.t * (b[0] - a[0]), a[1] + p.t * (b[1] - a[1])];
             assert!(dist(on, p.point) < 1e-15);
         }
-        assert_eq!(resample_closed(&sq, 10.0).len(), 3);
+        assert_eq!(resample_closed(&sq, &sides, 10.0).len(), 3);
+        // Edges measured as 1, 3, 1, 3: a quarter of the points on each short side.
+        let pts = resample_closed(&sq, &[1.0, 3.0, 1.0, 3.0], 0.5);
+        assert_eq!(pts.len(), 16);
+        assert_eq!(pts.iter().filter(|p| p.edge == 0).count(), 2);
+        assert_eq!(pts.iter().filter(|p| p.edge == 1).count(), 6);
     }
 
     #[test]
