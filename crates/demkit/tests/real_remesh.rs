@@ -152,6 +152,18 @@ fn sophie_remeshes_with_its_two_boundaries() {
 
 #[test]
 #[ignore = "needs real meshes (DEMKIT_DATA)"]
+fn human_brain_remeshes_evenly_although_its_map_is_rough() {
+    acceptance("open/human_brain.obj", Map::Dem, 1, 0);
+}
+
+#[test]
+#[ignore = "needs real meshes (DEMKIT_DATA)"]
+fn lion_remeshes_evenly_with_its_six_boundaries_although_its_map_is_rough() {
+    acceptance("multiply-connected/lion_5.obj", Map::Deq, 6, 0);
+}
+
+#[test]
+#[ignore = "needs real meshes (DEMKIT_DATA)"]
 fn more_population_on_one_side_of_the_face_puts_more_vertices_there() {
     let _serial = common::SERIAL.lock();
     let (_, out) = remeshed("open/human_face.obj", Map::Dem, "area*(1+3*(x>0))", 5000);

@@ -12,6 +12,7 @@
 //! - `relax`: flips and smoothing in the domain that improve the triangles' shapes on the
 //!   surface without taking any vertex off it.
 
+mod adaptive;
 mod chart;
 pub mod planar;
 pub mod quality;

@@ -4,8 +4,10 @@
 //! edges), and every point pulled back onto the input surface through the inverse map.
 
 use super::Layout;
+use super::adaptive::Candidates;
 use super::region::Region;
 use super::sampling::{OnPolyline, hex_rows, hex_spacing, resample_closed};
+use crate::geometry::locate::PlanarLocator;
 use crate::mesh::triangulate::{constrained_delaunay, faces_inside};
 use crate::{Error, Result, TriMesh};
 use std::collections::HashMap;
@@ -13,6 +15,10 @@ use std::collections::HashMap;
 /// Lattice points closer than this many spacings to the boundary are left out: the resampled
 /// boundary takes their place.
 const MARGIN: f64 = 0.6;
+
+/// Above this density error of the map, the interior points follow the map's residual density
+/// (see [`super::adaptive`]) instead of a uniform lattice.
+const ADAPT_ABOVE: f64 = 0.25;
 
 /// At most this many adjustments of the spacing to meet the requested vertex count.
 const SPACING_STEPS: usize = 12;
@@ -70,7 +76,23 @@ pub fn layout_planar(
         .iter()
         .sum();
     let measured = boundary_lengths(input, density, loops, area / surface_area);
-    let layout = fit_spacing(&polylines, &measured, area, n);
+    let relative = residual_density(input, density, mapped);
+    let h0 = hex_spacing(area, n);
+    let adaptive = if relative.error > ADAPT_ABOVE {
+        let locator = PlanarLocator::new(mapped, &input.faces);
+        let field = |p: [f64; 2]| {
+            locator.locate(p).map(|l| {
+                let f = input.faces[l.face];
+                (0..3)
+                    .map(|k| l.weights[k] * relative.vertex[f[k] as usize])
+                    .sum()
+            })
+        };
+        Some(Candidates::new(&Region::new(&polylines, h0), h0, &field))
+    } else {
+        None
+    };
+    let layout = fit_spacing(&polylines, &measured, adaptive.as_ref(), area, n);
 
     // Boundary points first (loop by loop), then the lattice.
     let mut points: Vec<[f64; 2]> = Vec::with_capacity(layout.len());
@@ -122,13 +144,14 @@ pub fn layout_planar(
 fn fit_spacing(
     polylines: &[Vec<[f64; 2]>],
     lengths: &[Vec<f64>],
+    adaptive: Option<&Candidates>,
     area: f64,
     n: usize,
 ) -> Placement {
     let mut h = hex_spacing(area, n);
     let mut best: Option<Placement> = None;
     for _ in 0..SPACING_STEPS {
-        let layout = lay_out(polylines, lengths, h);
+        let layout = lay_out(polylines, lengths, adaptive, h);
         let count = layout.len().max(1);
         let off = |l: &Placement| (l.len() as f64 - n as f64).abs();
         let done = off(&layout) <= 0.01 * n as f64;
@@ -140,17 +163,31 @@ fn fit_spacing(
         }
         h *= (count as f64 / n as f64).sqrt();
     }
-    best.unwrap_or_else(|| lay_out(polylines, lengths, h))
+    best.unwrap_or_else(|| lay_out(polylines, lengths, adaptive, h))
 }
 
-/// The boundary loops resampled at spacing `h` and the hexagonal lattice of spacing `h` inside
-/// the region, at least [`MARGIN`]` · h` from its boundary.
-fn lay_out(polylines: &[Vec<[f64; 2]>], lengths: &[Vec<f64>], h: f64) -> Placement {
+/// The boundary loops resampled at spacing `h` and, inside the region, the hexagonal lattice of
+/// spacing `h` at least [`MARGIN`]` · h` from its boundary, or with `adaptive` candidates, a
+/// Poisson-disk set of local spacing `h / √r` as far from the boundary in proportion.
+fn lay_out(
+    polylines: &[Vec<[f64; 2]>],
+    lengths: &[Vec<f64>],
+    adaptive: Option<&Candidates>,
+    h: f64,
+) -> Placement {
     let boundary = polylines
         .iter()
         .zip(lengths)
         .map(|(p, l)| resample_closed(p, l, h))
         .collect();
+    if let Some(c) = adaptive {
+        let region = Region::new(polylines, MARGIN * h * c.max_factor());
+        return Placement {
+            h,
+            boundary,
+            interior: c.select(&region, h, MARGIN),
+        };
+    }
     let margin = MARGIN * h;
     let region = Region::new(polylines, margin);
     let (lo, hi) = region.bounds();
@@ -171,6 +208,41 @@ fn lay_out(polylines: &[Vec<[f64; 2]>], lengths: &[Vec<f64>], h: f64) -> Placeme
         h,
         boundary,
         interior,
+    }
+}
+
+/// The density a map leaves to be made up by the point layout: per input vertex, the
+/// population of its faces over their area on the map, relative to the whole (1 everywhere for
+/// an exact density-equalizing map), and the map's density error (mean |log| of the per-face
+/// ratio, the report's `density_error_mean`).
+struct Residual {
+    vertex: Vec<f64>,
+    error: f64,
+}
+
+fn residual_density(input: &TriMesh, density: &[f64], mapped: &[[f64; 3]]) -> Residual {
+    let areas = crate::geometry::face_areas(&input.positions, &input.faces);
+    let on_map = crate::geometry::face_areas(mapped, &input.faces);
+    let pop: Vec<f64> = density.iter().zip(&areas).map(|(d, a)| d * a).collect();
+    let (total_pop, total_map) = (pop.iter().sum::<f64>(), on_map.iter().sum::<f64>());
+    let mut sums = vec![(0.0, 0.0); input.n_vertices()];
+    let mut error = 0.0;
+    for (f, t) in input.faces.iter().enumerate() {
+        for &v in t {
+            sums[v as usize].0 += pop[f];
+            sums[v as usize].1 += on_map[f];
+        }
+        let r = (pop[f] / total_pop) / (on_map[f] / total_map);
+        if r.is_finite() && r > 0.0 {
+            error += r.ln().abs();
+        }
+    }
+    Residual {
+        vertex: sums
+            .iter()
+            .map(|(p, a)| (p / total_pop) / (a / total_map))
+            .collect(),
+        error: error / input.n_faces().max(1) as f64,
     }
 }
 
@@ -294,5 +366,40 @@ mod tests {
             let [a, b, c] = f.map(|v| out.positions[v as usize]);
             assert!((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) > 0.0);
         }
+    }
+
+    #[test]
+    fn a_map_that_squeezes_half_the_surface_is_made_up_for() {
+        // The left half of the square takes a quarter of the map: four times too little area.
+        let (input, flat) = square(16);
+        let squeezed: Vec<[f64; 3]> = flat
+            .iter()
+            .map(|p| {
+                let x = if p[0] < 0.5 {
+                    0.5 * p[0]
+                } else {
+                    1.5 * p[0] - 0.5
+                };
+                [x, p[1], 0.0]
+            })
+            .collect();
+        let loops = topology(&input).boundary_loops;
+        let out = remesh_planar(&input, &squeezed, &loops, 800).unwrap();
+        let q = super::super::quality::quality(&out);
+        assert!(q.area_cv < 0.35, "{q:?}");
+        // As many vertices per unit area on both halves of the (curved) surface.
+        let areas = crate::geometry::face_areas(&out.positions, &out.faces);
+        let (mut area_left, mut area_right) = (0.0, 0.0);
+        for (f, a) in out.faces.iter().zip(&areas) {
+            if f.iter().map(|&v| out.positions[v as usize][0]).sum::<f64>() < 1.5 {
+                area_left += a;
+            } else {
+                area_right += a;
+            }
+        }
+        let left = out.positions.iter().filter(|p| p[0] < 0.5).count() as f64;
+        let right = out.n_vertices() as f64 - left;
+        let ratio = (left / area_left) / (right / area_right);
+        assert!((ratio - 1.0).abs() < 0.15, "{ratio}");
     }
 }

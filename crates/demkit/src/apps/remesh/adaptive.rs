@@ -1,0 +1,163 @@
+//! Points with a varying spacing in a planar region, for maps that equalize the density only
+//! roughly: where the map gives a region less area than its population asks for, points must be
+//! closer there for the surface to get the vertex density the population asks for (DEM paper
+//! §6.2: "more points will lie on that part"). A greedy Poisson-disk selection among a fine
+//! hexagonal lattice of candidates, visited in a fixed pseudo-random order, keeps a candidate
+//! when no kept point is nearer than the smaller of their two spacings.
+
+use super::region::Region;
+use super::sampling::{dist, hex_rows};
+
+/// The radius of a greedy Poisson-disk set with the density of a hexagonal lattice of spacing
+/// `s` is about this times `s` (random sequential packing covers about 55 % of the plane).
+pub const RADIUS_PER_SPACING: f64 = 0.78;
+
+/// Candidates lie on a hexagonal lattice this many times the smallest radius apart.
+const CANDIDATE_STEP: f64 = 0.3;
+
+/// The candidates of a region: points, their spacing factor and the visiting order.
+pub struct Candidates {
+    points: Vec<[f64; 2]>,
+    /// `1 / √r` at every candidate, `r` the relative density asked for there.
+    factor: Vec<f64>,
+    order: Vec<usize>,
+    min_factor: f64,
+    max_factor: f64,
+}
+
+impl Candidates {
+    /// Candidates inside `region` for spacings down to `h_min · min factor`, where
+    /// `relative(p)` is the density asked for at `p` relative to the mean (clamped to
+    /// `[1/64, 64]`; 1 where it is unknown).
+    pub fn new(region: &Region, h_min: f64, relative: &dyn Fn([f64; 2]) -> Option<f64>) -> Self {
+        let (lo, hi) = region.bounds();
+        let probe = |p: [f64; 2]| {
+            1.0 / relative(p)
+                .filter(|r| r.is_finite() && *r > 0.0)
+                .unwrap_or(1.0)
+                .clamp(1.0 / 64.0, 64.0)
+                .sqrt()
+        };
+        // A first pass on a coarse lattice finds the smallest spacing factor.
+        let mut min_factor = f64::INFINITY;
+        for (y, xs) in hex_rows(lo, hi, h_min) {
+            for x in xs {
+                min_factor = min_factor.min(probe([x, y]));
+            }
+        }
+        if !min_factor.is_finite() {
+            min_factor = 1.0;
+        }
+        let step = CANDIDATE_STEP * RADIUS_PER_SPACING * h_min * min_factor;
+        let (mut points, mut factor) = (Vec::new(), Vec::new());
+        for (y, xs) in hex_rows(lo, hi, step) {
+            let cross = region.crossings(y);
+            let mut k = 0;
+            for x in xs {
+                while k < cross.len() && cross[k] < x {
+                    k += 1;
+                }
+                if k % 2 == 1 {
+                    points.push([x, y]);
+                    factor.push(probe([x, y]).max(min_factor));
+                }
+            }
+        }
+        let mut keyed: Vec<(u64, usize)> = (0..points.len()).map(|i| (mix(i as u64), i)).collect();
+        keyed.sort_unstable();
+        let max_factor = factor.iter().copied().fold(min_factor, f64::max);
+        Candidates {
+            points,
+            factor,
+            order: keyed.into_iter().map(|(_, i)| i).collect(),
+            min_factor,
+            max_factor,
+        }
+    }
+
+    /// The kept points for spacing `h` (local spacing `h · factor`), at least
+    /// `margin · h · factor` from the boundary of `region`.
+    pub fn select(&self, region: &Region, h: f64, margin: f64) -> Vec<[f64; 2]> {
+        let cell = RADIUS_PER_SPACING * h * self.min_factor;
+        let (lo, hi) = region.bounds();
+        let dims = [0, 1].map(|d| ((hi[d] - lo[d]) / cell).floor() as usize + 1);
+        if dims[0].saturating_mul(dims[1]) > 50_000_000 {
+            return Vec::new();
+        }
+        let reach = (self.max_factor / self.min_factor).ceil() as isize;
+        let mut grid: Vec<Vec<u32>> = vec![Vec::new(); dims[0] * dims[1]];
+        let mut kept: Vec<[f64; 2]> = Vec::new();
+        let mut kept_radius: Vec<f64> = Vec::new();
+        let cell_of = |p: [f64; 2]| -> [isize; 2] {
+            [0, 1]
+                .map(|d| (((p[d] - lo[d]) / cell).floor() as isize).clamp(0, dims[d] as isize - 1))
+        };
+        for &i in &self.order {
+            let p = self.points[i];
+            let radius = RADIUS_PER_SPACING * h * self.factor[i];
+            let c = cell_of(p);
+            let span = ((radius / cell).ceil() as isize).min(reach);
+            let mut free = true;
+            'search: for dj in -span..=span {
+                for di in -span..=span {
+                    let (x, y) = (c[0] + di, c[1] + dj);
+                    if x < 0 || y < 0 || x >= dims[0] as isize || y >= dims[1] as isize {
+                        continue;
+                    }
+                    for &k in &grid[y as usize * dims[0] + x as usize] {
+                        let k = k as usize;
+                        if dist(kept[k], p) < radius.min(kept_radius[k]) {
+                            free = false;
+                            break 'search;
+                        }
+                    }
+                }
+            }
+            if !free || region.near_boundary(p, margin * h * self.factor[i]) {
+                continue;
+            }
+            grid[c[1] as usize * dims[0] + c[0] as usize].push(kept.len() as u32);
+            kept.push(p);
+            kept_radius.push(radius);
+        }
+        kept
+    }
+
+    /// The largest spacing factor (for the region's grid).
+    pub fn max_factor(&self) -> f64 {
+        self.max_factor
+    }
+}
+
+/// A fixed pseudo-random 64-bit mix of `x` (SplitMix64's finalizer).
+fn mix(x: u64) -> u64 {
+    let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_denser_half_gets_more_points() {
+        let square = vec![[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]];
+        let region = Region::new(&[square], 0.5);
+        let c = Candidates::new(&region, 0.05, &|p| Some(if p[0] > 1.0 { 4.0 } else { 1.0 }));
+        let pts = c.select(&region, 0.05, 0.3);
+        let right = pts.iter().filter(|p| p[0] > 1.0).count() as f64;
+        let left = pts.len() as f64 - right;
+        assert!(right / left > 3.0 && right / left < 5.0, "{right} / {left}");
+        // About the hexagonal lattice's count on the uniform half.
+        let hex = 2.0 / (3f64.sqrt() * 0.05 * 0.05);
+        assert!((left / hex - 1.0).abs() < 0.25, "{left} vs {hex}");
+        // No two points closer than the smaller radius.
+        for (i, p) in pts.iter().enumerate() {
+            for q in &pts[i + 1..] {
+                assert!(dist(*p, *q) >= RADIUS_PER_SPACING * 0.025 - 1e-12);
+            }
+        }
+    }
+}
