@@ -26,10 +26,17 @@ pub struct Candidates {
 }
 
 impl Candidates {
-    /// Candidates inside `region` for spacings down to `h_min · min factor`, where
-    /// `relative(p)` is the density asked for at `p` relative to the mean (clamped to
-    /// `[1/64, 64]`; 1 where it is unknown).
-    pub fn new(region: &Region, h_min: f64, relative: &dyn Fn([f64; 2]) -> Option<f64>) -> Self {
+    /// Candidates inside `region` (of area `area`) for spacings down to `h_min · min factor`,
+    /// where `relative(p)` is the density asked for at `p` relative to the mean (clamped to
+    /// `[1/64, 64]`; 1 where it is unknown); at most about `max_count` of them (the densest
+    /// spots then get somewhat fewer points than asked for).
+    pub fn new(
+        region: &Region,
+        area: f64,
+        h_min: f64,
+        relative: &dyn Fn([f64; 2]) -> Option<f64>,
+        max_count: usize,
+    ) -> Self {
         let (lo, hi) = region.bounds();
         let probe = |p: [f64; 2]| {
             1.0 / relative(p)
@@ -48,7 +55,8 @@ impl Candidates {
         if !min_factor.is_finite() {
             min_factor = 1.0;
         }
-        let step = CANDIDATE_STEP * RADIUS_PER_SPACING * h_min * min_factor;
+        let fewest = (2.0 * area / (3f64.sqrt() * max_count.max(1) as f64)).sqrt();
+        let step = (CANDIDATE_STEP * RADIUS_PER_SPACING * h_min * min_factor).max(fewest);
         let (mut points, mut factor) = (Vec::new(), Vec::new());
         for (y, xs) in hex_rows(lo, hi, step) {
             let cross = region.crossings(y);
@@ -97,18 +105,25 @@ impl Candidates {
             let radius = RADIUS_PER_SPACING * h * self.factor[i];
             let c = cell_of(p);
             let span = ((radius / cell).ceil() as isize).min(reach);
+            // Rings of cells outwards from the candidate's own: most candidates are turned down
+            // by a point next to them.
             let mut free = true;
-            'search: for dj in -span..=span {
-                for di in -span..=span {
-                    let (x, y) = (c[0] + di, c[1] + dj);
-                    if x < 0 || y < 0 || x >= dims[0] as isize || y >= dims[1] as isize {
-                        continue;
-                    }
-                    for &k in &grid[y as usize * dims[0] + x as usize] {
-                        let k = k as usize;
-                        if dist(kept[k], p) < radius.min(kept_radius[k]) {
-                            free = false;
-                            break 'search;
+            'search: for ring in 0..=span {
+                for dj in -ring..=ring {
+                    let step = if dj.abs() == ring { 1 } else { 2 * ring.max(1) };
+                    let mut di = -ring;
+                    while di <= ring {
+                        let (x, y) = (c[0] + di, c[1] + dj);
+                        di += step;
+                        if x < 0 || y < 0 || x >= dims[0] as isize || y >= dims[1] as isize {
+                            continue;
+                        }
+                        for &k in &grid[y as usize * dims[0] + x as usize] {
+                            let k = k as usize;
+                            if dist(kept[k], p) < radius.min(kept_radius[k]) {
+                                free = false;
+                                break 'search;
+                            }
                         }
                     }
                 }
@@ -142,10 +157,23 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_candidates_are_capped() {
+        let square = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let region = Region::new(&[square], 0.5);
+        let c = Candidates::new(&region, 1.0, 0.01, &|_| Some(64.0), 5000);
+        assert!(
+            c.points.len() < 6000 && c.points.len() > 4000,
+            "{}",
+            c.points.len()
+        );
+    }
+
+    #[test]
     fn a_denser_half_gets_more_points() {
         let square = vec![[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]];
         let region = Region::new(&[square], 0.5);
-        let c = Candidates::new(&region, 0.05, &|p| Some(if p[0] > 1.0 { 4.0 } else { 1.0 }));
+        let relative = |p: [f64; 2]| Some(if p[0] > 1.0 { 4.0 } else { 1.0 });
+        let c = Candidates::new(&region, 2.0, 0.05, &relative, 1_000_000);
         let pts = c.select(&region, 0.05, 0.3);
         let right = pts.iter().filter(|p| p[0] > 1.0).count() as f64;
         let left = pts.len() as f64 - right;

@@ -20,6 +20,9 @@ const MARGIN: f64 = 0.6;
 /// (see [`super::adaptive`]) instead of a uniform lattice.
 const ADAPT_ABOVE: f64 = 0.25;
 
+/// A Poisson-disk layout chooses among at most about this many candidates per point asked for.
+const MAX_CANDIDATES_PER_POINT: usize = 100;
+
 /// At most this many adjustments of the spacing to meet the requested vertex count.
 const SPACING_STEPS: usize = 12;
 
@@ -88,7 +91,14 @@ pub fn layout_planar(
                     .sum()
             })
         };
-        Some(Candidates::new(&Region::new(&polylines, h0), h0, &field))
+        let region = Region::new(&polylines, h0);
+        Some(Candidates::new(
+            &region,
+            area,
+            h0,
+            &field,
+            MAX_CANDIDATES_PER_POINT * n,
+        ))
     } else {
         None
     };
