@@ -9,6 +9,7 @@
 //! - [`planar`]: disk and circle-domain maps (boundaries and holes kept);
 //! - [`sphere`]: maps onto the unit sphere;
 //! - [`torus`]: maps onto the flat torus;
+//! - `adaptive`: a Poisson-disk layout for planar maps that equalize the density only roughly;
 //! - `relax`: flips and smoothing in the domain that improve the triangles' shapes on the
 //!   surface without taking any vertex off it.
 
