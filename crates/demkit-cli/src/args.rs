@@ -226,6 +226,21 @@ pub struct RegisterArgs {
     /// Output mesh (.obj or .ply): A's faces, vertices on B's surface.
     #[arg(long)]
     pub out: PathBuf,
+    /// LSDEM weight α of the density term (default: the paper's).
+    #[arg(long)]
+    pub alpha: Option<f64>,
+    /// LSDEM weight β of the harmonic term (default: the paper's).
+    #[arg(long)]
+    pub beta: Option<f64>,
+    /// LSDEM weight γ of the landmark term (default: the paper's).
+    #[arg(long)]
+    pub gamma: Option<f64>,
+    /// LSDEM iteration limit (default: the paper's).
+    #[arg(long)]
+    pub max_iter: Option<usize>,
+    /// LSDEM stopping tolerance (default: the paper's).
+    #[arg(long)]
+    pub epsilon: Option<f64>,
     /// Write a JSON report here.
     #[arg(long)]
     pub report: Option<PathBuf>,

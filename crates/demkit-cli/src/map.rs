@@ -243,12 +243,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             genus: topo.genus,
         };
         let report = Report::new(result, input, &metrics, t0.elapsed().as_secs_f64());
-        let text = serde_json::to_string_pretty(&report).map_err(|e| Failure {
-            code: 1,
-            message: e.to_string(),
-        })?;
-        std::fs::write(path, text + "\n")
-            .map_err(|e| Failure::input(format!("{}: {e}", path.display())))?;
+        crate::report::write_json(path, &report)?;
     }
     if !a.quiet {
         for n in &result.notes {

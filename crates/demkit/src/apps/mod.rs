@@ -1,3 +1,4 @@
-//! What the maps are for (the papers' applications): texture coordinates so far.
+//! What the maps are for (the papers' applications): registration and texture coordinates.
 
+pub mod register;
 pub mod texture;

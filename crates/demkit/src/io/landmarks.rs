@@ -1,4 +1,5 @@
-//! Landmark files: one landmark per line, `vertex_index target_x target_y [target_z]`.
+//! Landmark files: one landmark per line, `vertex_index target_x target_y [target_z]`; and
+//! landmark vertex files (registration): one vertex index per line.
 
 use super::{Lines, format_error, number_error, parse_error, parse_f64, parse_int, read_file};
 use super::{path_label, show, strip_comment, tokens};
@@ -91,10 +92,87 @@ pub fn parse_landmarks(data: &[u8], path: &str, n_vertices: usize) -> Result<Vec
     Ok(landmarks)
 }
 
+/// Reads a file of landmark vertices for a mesh with `n_vertices` vertices: one 0-based
+/// vertex index per line (registration's landmark files); blank lines and `#` comments are
+/// ignored.
+///
+/// Errors: as [`read_landmarks`] — a missing file, a line that is not one integer, an index
+/// out of range or given twice (naming the line), a file without any index.
+pub fn read_landmark_vertices(path: &Path, n_vertices: usize) -> Result<Vec<usize>> {
+    let data = read_file(path)?;
+    parse_landmark_vertices(&data, &path_label(path), n_vertices)
+}
+
+/// Parses landmark vertex text (see [`read_landmark_vertices`]); `path` labels errors.
+pub fn parse_landmark_vertices(data: &[u8], path: &str, n_vertices: usize) -> Result<Vec<usize>> {
+    let mut vertices = Vec::new();
+    let mut seen: Vec<(usize, usize)> = Vec::new();
+    for (line_no, line) in Lines::new(data) {
+        let fields: Vec<&[u8]> = tokens(strip_comment(line)).collect();
+        if fields.is_empty() {
+            continue;
+        }
+        if fields.len() != 1 {
+            return Err(parse_error(
+                path,
+                line_no,
+                format!("expected one vertex index, found {} fields", fields.len()),
+            ));
+        }
+        let index = parse_int(fields[0]).ok_or_else(|| {
+            parse_error(
+                path,
+                line_no,
+                format!("cannot read '{}' as a vertex index", show(fields[0])),
+            )
+        })?;
+        if index < 0 || index as u64 >= n_vertices as u64 {
+            return Err(Error::Landmarks(format!(
+                "{path}, line {line_no}: vertex {index} is out of range (mesh has \
+                 {n_vertices} vertices)"
+            )));
+        }
+        seen.push((index as usize, line_no));
+        vertices.push(index as usize);
+    }
+    if vertices.is_empty() {
+        return Err(format_error(path, "no landmark vertices in the file"));
+    }
+    seen.sort_unstable();
+    if let Some(w) = seen
+        .windows(2)
+        .filter(|w| w[0].0 == w[1].0)
+        .min_by_key(|w| w[1].1)
+    {
+        return Err(Error::Landmarks(format!(
+            "{path}, line {}: vertex {} is already a landmark (line {})",
+            w[1].1, w[1].0, w[0].1
+        )));
+    }
+    Ok(vertices)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::io::test_util::{data_dir, temp_file, temp_path};
+
+    #[test]
+    fn reads_landmark_vertices_and_refuses_bad_lines() {
+        let v = parse_landmark_vertices(b"# eyes\n3\n\n 7 # nose\n0\n", "a.txt", 8).unwrap();
+        assert_eq!(v, vec![3, 7, 0]);
+        let e = parse_landmark_vertices(b"3\n8\n", "a.txt", 8).unwrap_err();
+        assert!(
+            e.to_string().contains("line 2") && e.to_string().contains('8'),
+            "{e}"
+        );
+        let e = parse_landmark_vertices(b"3\n4\n3\n", "a.txt", 8).unwrap_err();
+        assert!(e.to_string().contains("line 3"), "{e}");
+        let e = parse_landmark_vertices(b"3 1.0\n", "a.txt", 8).unwrap_err();
+        assert!(matches!(e, Error::Parse { line: 1, .. }), "{e}");
+        assert!(parse_landmark_vertices(b"# none\n", "a.txt", 8).is_err());
+        assert!(parse_landmark_vertices(b"x\n", "a.txt", 8).is_err());
+    }
 
     fn parse(text: &str, n: usize) -> Result<Vec<Landmark>> {
         parse_landmarks(text.as_bytes(), "l.txt", n)
