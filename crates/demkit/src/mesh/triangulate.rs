@@ -248,10 +248,16 @@ fn build(points: &[[f64; 2]], segments: &[[usize; 2]]) -> Result<Cdt> {
             "two points to triangulate are at the same position".into(),
         ));
     }
-    if conflicts > 0 {
-        return Err(Error::InvalidMesh(format!(
-            "{conflicts} segments cross or overlap other segments"
-        )));
+    let mut distinct: Vec<[usize; 2]> = segments
+        .iter()
+        .map(|s| [s[0].min(s[1]), s[0].max(s[1])])
+        .collect();
+    distinct.sort_unstable();
+    distinct.dedup();
+    if conflicts > 0 || cdt.num_constraints() != distinct.len() {
+        return Err(Error::InvalidMesh(
+            "segments cross, overlap or pass through other points".into(),
+        ));
     }
     Ok(cdt)
 }
