@@ -7,7 +7,7 @@ use crate::map::{check_output_extension, read_valid_mesh};
 use crate::progress::Bar;
 use demkit::TriMesh;
 use demkit::apps::register::{register, registration_config};
-use demkit::geometry::{face_areas, norm, sub};
+use demkit::geometry::{bounding_box_diagonal, face_areas, norm, sub};
 use demkit::methods::{MapResult, lsdem};
 use demkit::metrics::{Domain, map_areas};
 use serde::Serialize;
@@ -127,19 +127,6 @@ pub fn run(a: &RegisterArgs) -> Result<u8, Failure> {
         return Ok(1);
     }
     Ok(if converged { 0 } else { 3 })
-}
-
-/// The length of the diagonal of the points' axis-aligned bounding box.
-fn bounding_box_diagonal(p: &[[f64; 3]]) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for q in p {
-        for d in 0..3 {
-            lo[d] = lo[d].min(q[d]);
-            hi[d] = hi[d].max(q[d]);
-        }
-    }
-    norm(sub(hi, lo))
 }
 
 /// LSDEM's configuration for registration, with the settings given on the command line.

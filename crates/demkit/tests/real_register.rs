@@ -9,7 +9,7 @@
 
 use demkit::TriMesh;
 use demkit::apps::register::{register, registration_config};
-use demkit::geometry::{face_areas, norm, sub};
+use demkit::geometry::{bounding_box, bounding_box_diagonal, face_areas, norm, sub};
 use std::f64::consts::TAU;
 
 mod common;
@@ -18,7 +18,7 @@ use common::{SERIAL, data};
 /// Applies `warp` to the mesh's positions in the frame centred at its bounding-box centre and
 /// scaled by its diagonal.
 fn deformed(mesh: &TriMesh, warp: impl Fn([f64; 3]) -> [f64; 3]) -> TriMesh {
-    let (lo, hi) = bounds(&mesh.positions);
+    let (lo, hi) = bounding_box(&mesh.positions);
     let c = [0, 1, 2].map(|d| 0.5 * (lo[d] + hi[d]));
     let diag = norm(sub(hi, lo));
     let positions = mesh
@@ -30,18 +30,6 @@ fn deformed(mesh: &TriMesh, warp: impl Fn([f64; 3]) -> [f64; 3]) -> TriMesh {
         })
         .collect();
     TriMesh::new(positions, mesh.faces.clone())
-}
-
-fn bounds(p: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for q in p {
-        for d in 0..3 {
-            lo[d] = lo[d].min(q[d]);
-            hi[d] = hi[d].max(q[d]);
-        }
-    }
-    (lo, hi)
 }
 
 /// The vertices with the least and the largest x, y and z.
@@ -76,8 +64,7 @@ fn mean_error(warp: impl Fn([f64; 3]) -> [f64; 3]) -> f64 {
         &mut |_| {},
     )
     .unwrap();
-    let (lo, hi) = bounds(&b.positions);
-    let diag = norm(sub(hi, lo));
+    let diag = bounding_box_diagonal(&b.positions);
     let mean = r
         .positions
         .iter()

@@ -31,65 +31,29 @@ pub fn read_landmarks(path: &Path, n_vertices: usize) -> Result<Vec<Landmark>> {
 
 /// Parses landmark text (see [`read_landmarks`]); `path` only labels error messages.
 pub fn parse_landmarks(data: &[u8], path: &str, n_vertices: usize) -> Result<Vec<Landmark>> {
-    let mut landmarks = Vec::new();
-    // Line of the landmark on each vertex, to report duplicates.
-    let mut seen: Vec<(usize, usize)> = Vec::new();
-    for (line_no, line) in Lines::new(data) {
-        let fields: Vec<&[u8]> = tokens(strip_comment(line)).collect();
-        if fields.is_empty() {
-            continue;
-        }
-        if fields.len() != 3 && fields.len() != 4 {
-            return Err(parse_error(
-                path,
-                line_no,
-                format!(
-                    "expected 'vertex_index target_x target_y [target_z]', found {} fields",
-                    fields.len()
-                ),
-            ));
-        }
-        let index = parse_int(fields[0]).ok_or_else(|| {
-            parse_error(
-                path,
-                line_no,
-                format!("cannot read '{}' as a vertex index", show(fields[0])),
-            )
-        })?;
-        let mut target = [0.0; 3];
-        for (x, t) in target.iter_mut().zip(&fields[1..]) {
-            *x = parse_f64(t).ok_or_else(|| number_error(path, line_no, t))?;
-        }
-        if index < 0 || index as u64 >= n_vertices as u64 {
-            return Err(Error::Landmarks(format!(
-                "landmark on line {line_no}: vertex {index} is out of range (mesh has \
-                 {n_vertices} vertices)"
-            )));
-        }
-        if !target.iter().all(|x| x.is_finite()) {
-            return Err(Error::Landmarks(format!(
-                "landmark on line {line_no}: the target of vertex {index} is not finite"
-            )));
-        }
-        let vertex = index as usize;
-        seen.push((vertex, line_no));
-        landmarks.push(Landmark { vertex, target });
-    }
-    if landmarks.is_empty() {
-        return Err(format_error(path, "no landmarks in the file"));
-    }
-    seen.sort_unstable();
-    if let Some(w) = seen
-        .windows(2)
-        .filter(|w| w[0].0 == w[1].0)
-        .min_by_key(|w| w[1].1)
-    {
-        return Err(Error::Landmarks(format!(
-            "landmark on line {}: vertex {} already has a landmark (line {})",
-            w[1].1, w[1].0, w[0].1
-        )));
-    }
-    Ok(landmarks)
+    let rows = parse_rows(
+        data,
+        path,
+        n_vertices,
+        "'vertex_index target_x target_y [target_z]'",
+        &[3, 4],
+        |vertex, rest, line_no| {
+            let mut target = [0.0; 3];
+            for (x, t) in target.iter_mut().zip(rest) {
+                *x = parse_f64(t).ok_or_else(|| number_error(path, line_no, t))?;
+            }
+            if !target.iter().all(|x| x.is_finite()) {
+                return Err(Error::Landmarks(format!(
+                    "{path}: landmark on line {line_no}: the target of vertex {vertex} is not finite"
+                )));
+            }
+            Ok(target)
+        },
+    )?;
+    Ok(rows
+        .into_iter()
+        .map(|(vertex, target)| Landmark { vertex, target })
+        .collect())
 }
 
 /// Reads a file of landmark vertices for a mesh with `n_vertices` vertices: one 0-based
@@ -105,18 +69,41 @@ pub fn read_landmark_vertices(path: &Path, n_vertices: usize) -> Result<Vec<usiz
 
 /// Parses landmark vertex text (see [`read_landmark_vertices`]); `path` labels errors.
 pub fn parse_landmark_vertices(data: &[u8], path: &str, n_vertices: usize) -> Result<Vec<usize>> {
-    let mut vertices = Vec::new();
+    let rows = parse_rows(
+        data,
+        path,
+        n_vertices,
+        "one vertex index",
+        &[1],
+        |_, _, _| Ok(()),
+    )?;
+    Ok(rows.into_iter().map(|(v, _)| v).collect())
+}
+
+/// The lines of a landmark file: each non-blank line has a vertex index (0-based, in range,
+/// each vertex once) followed by fields that `rest` reads; `allowed` are the accepted field
+/// counts and `expected` describes a line for the error message.
+fn parse_rows<T>(
+    data: &[u8],
+    path: &str,
+    n_vertices: usize,
+    expected: &str,
+    allowed: &[usize],
+    rest: impl Fn(usize, &[&[u8]], usize) -> Result<T>,
+) -> Result<Vec<(usize, T)>> {
+    let mut rows = Vec::new();
+    // Line of the landmark on each vertex, to report duplicates.
     let mut seen: Vec<(usize, usize)> = Vec::new();
     for (line_no, line) in Lines::new(data) {
         let fields: Vec<&[u8]> = tokens(strip_comment(line)).collect();
         if fields.is_empty() {
             continue;
         }
-        if fields.len() != 1 {
+        if !allowed.contains(&fields.len()) {
             return Err(parse_error(
                 path,
                 line_no,
-                format!("expected one vertex index, found {} fields", fields.len()),
+                format!("expected {expected}, found {} fields", fields.len()),
             ));
         }
         let index = parse_int(fields[0]).ok_or_else(|| {
@@ -128,15 +115,17 @@ pub fn parse_landmark_vertices(data: &[u8], path: &str, n_vertices: usize) -> Re
         })?;
         if index < 0 || index as u64 >= n_vertices as u64 {
             return Err(Error::Landmarks(format!(
-                "{path}, line {line_no}: vertex {index} is out of range (mesh has \
+                "{path}: landmark on line {line_no}: vertex {index} is out of range (mesh has \
                  {n_vertices} vertices)"
             )));
         }
-        seen.push((index as usize, line_no));
-        vertices.push(index as usize);
+        let vertex = index as usize;
+        let value = rest(vertex, &fields[1..], line_no)?;
+        seen.push((vertex, line_no));
+        rows.push((vertex, value));
     }
-    if vertices.is_empty() {
-        return Err(format_error(path, "no landmark vertices in the file"));
+    if rows.is_empty() {
+        return Err(format_error(path, "no landmarks in the file"));
     }
     seen.sort_unstable();
     if let Some(w) = seen
@@ -145,11 +134,11 @@ pub fn parse_landmark_vertices(data: &[u8], path: &str, n_vertices: usize) -> Re
         .min_by_key(|w| w[1].1)
     {
         return Err(Error::Landmarks(format!(
-            "{path}, line {}: vertex {} is already a landmark (line {})",
+            "{path}: landmark on line {}: vertex {} already has a landmark (line {})",
             w[1].1, w[1].0, w[0].1
         )));
     }
-    Ok(vertices)
+    Ok(rows)
 }
 
 #[cfg(test)]
@@ -216,11 +205,11 @@ mod tests {
     fn out_of_range() {
         assert_eq!(
             landmarks_msg("1 0 0\n\n9999 0 0\n", 500),
-            "landmark on line 3: vertex 9999 is out of range (mesh has 500 vertices)"
+            "l.txt: landmark on line 3: vertex 9999 is out of range (mesh has 500 vertices)"
         );
         assert_eq!(
             landmarks_msg("-1 0 0\n", 500),
-            "landmark on line 1: vertex -1 is out of range (mesh has 500 vertices)"
+            "l.txt: landmark on line 1: vertex -1 is out of range (mesh has 500 vertices)"
         );
         assert!(landmarks_msg("3 0 0\n", 3).contains("vertex 3 is out of range"));
     }
@@ -229,7 +218,7 @@ mod tests {
     fn duplicates() {
         assert_eq!(
             landmarks_msg("5 0 0\n2 1 1\n2 0 1\n5 1 0\n", 10),
-            "landmark on line 3: vertex 2 already has a landmark (line 2)"
+            "l.txt: landmark on line 3: vertex 2 already has a landmark (line 2)"
         );
     }
 
@@ -237,7 +226,7 @@ mod tests {
     fn non_finite_target() {
         assert_eq!(
             landmarks_msg("1 0 0\n2 nan 0\n", 10),
-            "landmark on line 2: the target of vertex 2 is not finite"
+            "l.txt: landmark on line 2: the target of vertex 2 is not finite"
         );
         assert!(landmarks_msg("2 0 0 inf\n", 10).contains("line 1"));
     }
