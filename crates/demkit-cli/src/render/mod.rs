@@ -118,7 +118,13 @@ pub fn run(a: &RenderArgs) -> Result<u8, Failure> {
 
 /// One finite value per face from a file in the population-file format.
 fn read_face_values(path: &Path, n_faces: usize) -> Result<Vec<f64>, Failure> {
-    let values = demkit::population::read_population_file(path)?;
+    let values = demkit::population::read_population_file(path).map_err(|e| {
+        let f = Failure::from(e);
+        Failure {
+            message: format!("--color: {}", f.message),
+            ..f
+        }
+    })?;
     if values.len() != n_faces {
         return Err(Failure::input(format!(
             "--color file {} has {} values but the mesh has {} faces",
