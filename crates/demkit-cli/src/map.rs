@@ -194,9 +194,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     if let Some(uv) = &a.uv_out {
         check_uv_extension(uv)?;
     }
-    for png in [&a.render, &a.histogram].into_iter().flatten() {
-        crate::render::check_png_extension(png)?;
-    }
+    crate::render::check_map_args(a)?;
     let mesh = read_valid_mesh(&a.mesh, a.quiet)?;
     let topo = topology(&mesh);
     let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
@@ -230,10 +228,10 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         c.landmarks.as_deref(),
     );
     if let Some(png) = &a.render {
-        crate::render::render_map(png, &mesh, &c)?;
+        crate::render::render_map(png, &mesh, &c, a)?;
     }
     if let Some(png) = &a.histogram {
-        crate::render::render_histograms(png, &mesh, &c)?;
+        crate::render::render_histograms(png, &mesh, &c, a)?;
     }
     if let Some(path) = &a.report {
         let input = InputSummary {
