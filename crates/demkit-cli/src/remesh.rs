@@ -123,7 +123,7 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
     let q = quality(&out);
     let out_topo = topology(&out);
     if let Some(path) = &a.report {
-        let diagonal = diagonal(&mesh);
+        let diagonal = demkit::geometry::bounding_box_diagonal(&mesh.positions);
         let report = RemeshReport {
             method: c.method.name().to_string(),
             population: a.m.population.clone(),
@@ -191,16 +191,4 @@ fn summary(mesh: &TriMesh) -> InputSummary {
         boundaries: t.boundary_loops.len(),
         genus: t.genus,
     }
-}
-
-/// The diagonal of the bounding box of `mesh`.
-fn diagonal(mesh: &TriMesh) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in &mesh.positions {
-        for d in 0..3 {
-            lo[d] = lo[d].min(p[d]);
-            hi[d] = hi[d].max(p[d]);
-        }
-    }
-    (0..3).map(|d| (hi[d] - lo[d]).powi(2)).sum::<f64>().sqrt()
 }

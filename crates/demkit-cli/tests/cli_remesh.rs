@@ -18,17 +18,6 @@ fn read(s: &Scratch, name: &str) -> TriMesh {
     )
 }
 
-fn diagonal(m: &TriMesh) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in &m.positions {
-        for d in 0..3 {
-            lo[d] = lo[d].min(p[d]);
-            hi[d] = hi[d].max(p[d]);
-        }
-    }
-    (0..3).map(|d| (hi[d] - lo[d]).powi(2)).sum::<f64>().sqrt()
-}
-
 /// Remeshes `input` (in the scratch directory) with `extra` arguments to about `n` vertices
 /// and checks the count (±10 %), the topology, the distance to the input surface (≤ 1e-6 of
 /// its diagonal), area CV ≤ 0.5 and median smallest angle ≥ 35°; returns the new mesh.
@@ -64,7 +53,7 @@ fn check_remesh(
         "{input}"
     );
     assert!(demkit::mesh::check(&out).is_valid(), "{input}");
-    let diag = diagonal(&before);
+    let diag = demkit::geometry::bounding_box_diagonal(&before.positions);
     let dist = max_distance_to_surface(&out.positions, &before, 1e-6 * diag);
     assert!(dist <= 1e-6 * diag, "{input}: {dist}");
     let q = quality(&out);

@@ -63,24 +63,13 @@ fn remeshed(rel: &str, map: Map, population: &str, n: usize) -> (TriMesh, TriMes
     (mesh, out)
 }
 
-fn diagonal(m: &TriMesh) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in &m.positions {
-        for d in 0..3 {
-            lo[d] = lo[d].min(p[d]);
-            hi[d] = hi[d].max(p[d]);
-        }
-    }
-    (0..3).map(|d| (hi[d] - lo[d]).powi(2)).sum::<f64>().sqrt()
-}
-
 /// Asserts every acceptance figure of a 5000-vertex remesh with population `area`.
 fn acceptance(rel: &str, map: Map, boundaries: usize, genus: i64) {
     let _serial = common::SERIAL.lock();
     let (input, out) = remeshed(rel, map, "area", 5000);
     let t = topology(&out);
     let q = quality(&out);
-    let diag = diagonal(&input);
+    let diag = demkit::geometry::bounding_box_diagonal(&input.positions);
     let dist = max_distance_to_surface(&out.positions, &input, 1e-6 * diag) / diag;
     eprintln!(
         "{rel}: {} vertices, {} loops, genus {}, distance/diagonal {dist:.1e}, area CV {:.3}, median smallest angle {:.1}°",

@@ -53,13 +53,8 @@ pub fn smallest_angle(p: [[f64; 3]; 3]) -> f64 {
 /// distance to its nearest triangle). Distances up to `tol` are found through a grid of the
 /// triangles' boxes grown by `tol`; a point farther than that is measured against every face.
 pub fn max_distance_to_surface(points: &[[f64; 3]], surface: &TriMesh, tol: f64) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in &surface.positions {
-        for d in 0..3 {
-            lo[d] = lo[d].min(p[d] - tol);
-            hi[d] = hi[d].max(p[d] + tol);
-        }
-    }
+    let (lo, hi) = crate::geometry::bounding_box(&surface.positions);
+    let (lo, hi) = (lo.map(|x| x - tol), hi.map(|x| x + tol));
     // About two faces per cell on average.
     let nf = surface.n_faces().max(1) as f64;
     let vol = (0..3).map(|d| (hi[d] - lo[d]).max(1e-300)).product::<f64>();
