@@ -328,9 +328,33 @@ fn figures(input: &Value, output: &Value) -> Figures {
     }
 }
 
-fn run_cartogram(s: &Scratch, input: &Value) -> (Value, Value) {
+/// Every position of a FeatureCollection mapped by `f`.
+fn map_positions(v: &Value, f: &dyn Fn([f64; 2]) -> [f64; 2]) -> Value {
+    match v {
+        Value::Array(a) if a.len() == 2 && a.iter().all(Value::is_number) => {
+            let p = f([a[0].as_f64().unwrap(), a[1].as_f64().unwrap()]);
+            json!([p[0], p[1]])
+        }
+        Value::Array(a) => Value::Array(a.iter().map(|x| map_positions(x, f)).collect()),
+        Value::Object(o) => Value::Object(
+            o.iter()
+                .map(|(k, x)| {
+                    let x = if k == "properties" {
+                        x.clone()
+                    } else {
+                        map_positions(x, f)
+                    };
+                    (k.clone(), x)
+                })
+                .collect(),
+        ),
+        other => other.clone(),
+    }
+}
+
+fn run_cartogram(s: &Scratch, input: &Value, extra: &[&str]) -> (Value, Value) {
     s.write("in.geojson", input.to_string());
-    s.ok(&[
+    let mut args = vec![
         "cartogram",
         "in.geojson",
         "--value",
@@ -342,7 +366,9 @@ fn run_cartogram(s: &Scratch, input: &Value) -> (Value, Value) {
         "--report",
         "r.json",
         "--quiet",
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    s.ok(&args);
     let out: Value = serde_json::from_str(&s.read("out.geojson")).unwrap();
     let report: Value = serde_json::from_str(&s.read("r.json")).unwrap();
     (out, report)
@@ -352,7 +378,7 @@ fn run_cartogram(s: &Scratch, input: &Value) -> (Value, Value) {
 fn grid_with_a_hole_and_a_multipolygon_meets_the_acceptance_figures() {
     let s = Scratch::new("carto_grid");
     let input = grid(5);
-    let (out, report) = run_cartogram(&s, &input);
+    let (out, report) = run_cartogram(&s, &input, &[]);
     let f = figures(&input, &out);
     eprintln!("{f:?}");
     assert_eq!(f.crossings, 0, "{f:?}");
@@ -372,7 +398,7 @@ fn grid_with_a_hole_and_a_multipolygon_meets_the_acceptance_figures() {
 fn irregular_regions_with_vertices_shared_by_four_meet_the_same_figures() {
     let s = Scratch::new("carto_irregular");
     let input = irregular(9, 7);
-    let (out, _) = run_cartogram(&s, &input);
+    let (out, _) = run_cartogram(&s, &input, &[]);
     let f = figures(&input, &out);
     eprintln!("{f:?}");
     assert_eq!(
@@ -382,6 +408,41 @@ fn irregular_regions_with_vertices_shared_by_four_meet_the_same_figures() {
     );
     assert!(f.gap_area < 1e-9, "{f:?}");
     assert!(f.median <= 0.05 && f.worst <= 0.15, "{f:?}");
+}
+
+#[test]
+fn sphere_grid_in_degrees_meets_the_figures_on_the_globe() {
+    let s = Scratch::new("carto_sphere");
+    // The acceptance grid as 10° cells from 20° W to 30° E and 5° N to 55° N.
+    let input = map_positions(&grid(5), &|p| [10.0 * p[0] - 20.0, 10.0 * p[1] + 5.0]);
+    let (out, report) = run_cartogram(&s, &input, &["--sphere"]);
+    assert_eq!(report["method"], "sdem");
+    assert_eq!(report["flipped_triangles"], 0);
+    // Lambert's cylindrical projection (longitude in radians, sine of latitude) keeps areas:
+    // the planar figures of the projected rings are those on the globe.
+    let lambert = |p: [f64; 2]| [p[0].to_radians(), p[1].to_radians().sin()];
+    let f = figures(
+        &map_positions(&input, &lambert),
+        &map_positions(&out, &lambert),
+    );
+    eprintln!("{f:?}");
+    assert_eq!(
+        (f.crossings, f.contained, f.boundary_loops),
+        (0, 0, 2),
+        "{f:?}"
+    );
+    assert!(f.gap_area < 1e-9, "{f:?}");
+    assert!(f.median <= 0.05 && f.worst <= 0.15, "{f:?}");
+    // Still where it was: every output position within 20° of the grid.
+    let text = s.read("out.geojson");
+    let back: Value = serde_json::from_str(&text).unwrap();
+    map_positions(&back, &|p| {
+        assert!(
+            (-40.0..=50.0).contains(&p[0]) && (-15.0..=75.0).contains(&p[1]),
+            "{p:?}"
+        );
+        p
+    });
 }
 
 #[test]

@@ -45,7 +45,7 @@ impl Default for Config {
         Self {
             target_faces: 20_000,
             max_iter: None,
-            rounds: 6,
+            rounds: 10,
             tolerance: 0.01,
             patience: 10,
         }
@@ -185,7 +185,7 @@ fn finish(set: &RegionSet, coordinates: Vec<Vec<Polygon>>, run: Run) -> Cartogra
 }
 
 /// Assembles the result from the regions' areas before and after.
-fn figures(
+pub(crate) fn figures(
     set: &RegionSet,
     coordinates: Vec<Vec<Polygon>>,
     in_areas: &[f64],

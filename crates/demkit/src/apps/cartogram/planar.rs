@@ -70,7 +70,11 @@ pub fn run(
         iterations += r.iterations;
         rounds = round + 1;
         stop_reason = r.stop_reason;
-        notes.extend(r.notes);
+        for n in r.notes {
+            if !notes.contains(&n) {
+                notes.push(n);
+            }
+        }
         // Same regions' area and centroid as the input.
         let areas = crate::geometry::face_areas(&r.positions, &mesh.faces);
         let (c, a) = region_centroid(&r.positions, &mesh, &areas);
@@ -169,36 +173,5 @@ mod tests {
         );
         // Region 0: 6 over area 3 → 2 and 4; region 1: 2; sea: (8 / 4) × 4.
         assert_eq!(pop, vec![2.0, 4.0, 2.0, 8.0]);
-    }
-}
-
-#[cfg(test)]
-mod experiment {
-    use super::*;
-
-    #[test]
-    #[ignore = "experiment"]
-    fn grid_file() {
-        let path = std::env::var("CARTO_FILE").unwrap_or("/tmp/carto/grid5.geojson".into());
-        let (_, set) = super::super::load(std::path::Path::new(&path), "pop", false).unwrap();
-        let mut c = Config::default();
-        if let Ok(v) = std::env::var("CARTO_FACES") {
-            c.target_faces = v.parse().unwrap();
-        }
-        if let Ok(v) = std::env::var("CARTO_ROUNDS") {
-            c.rounds = v.parse().unwrap();
-        }
-        let mut last = 0.0;
-        let r = run(&set, &c, "x", &mut |p| last = p.error).unwrap();
-        eprintln!(
-            "median {:.4} worst {:.4} it {} rounds {} {:?} faces {} t {:.2} last {last:.2e}",
-            r.median_error,
-            r.worst_error,
-            r.run.iterations,
-            r.run.rounds,
-            r.run.stop_reason,
-            r.run.mesh_faces,
-            r.run.time_s
-        );
     }
 }

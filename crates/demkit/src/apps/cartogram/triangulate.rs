@@ -104,7 +104,13 @@ impl RegionMesh {
         }
 
         let t = constrained_delaunay(&points, &segments)?;
-        let face_region = assign_faces(set, &t.points, &t.faces, path)?;
+        let polygons: Vec<(usize, Vec<Vec<usize>>)> = set
+            .regions
+            .iter()
+            .enumerate()
+            .flat_map(|(r, region)| region.polygons.iter().map(move |p| (r, p.clone())))
+            .collect();
+        let face_region = assign_faces(set, &polygons, &set.points, &t.points, &t.faces, path)?;
         let mut has_face = vec![false; set.regions.len()];
         for r in face_region.iter().flatten() {
             has_face[*r] = true;
@@ -182,9 +188,12 @@ fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 
 /// The region of every face: the one polygon (even–odd over its rings) containing the face's
-/// centroid, or `None`. A face inside two polygons is an overlap, refused.
-fn assign_faces(
+/// centroid, or `None`. A face inside two polygons is an overlap, refused. `polygons` are
+/// (region, rings) with rings given as indices into `ring_points`.
+pub(super) fn assign_faces(
     set: &RegionSet,
+    polygons: &[(usize, Vec<Vec<usize>>)],
+    ring_points: &[[f64; 2]],
     points: &[[f64; 2]],
     faces: &[[u32; 3]],
     path: &str,
@@ -203,12 +212,13 @@ fn assign_faces(
     }
     // (region, polygon) of each face.
     let mut owner: Vec<Option<(usize, usize)>> = vec![None; faces.len()];
-    for (r, region) in set.regions.iter().enumerate() {
-        for (k, rings) in region.polygons.iter().enumerate() {
-            let (plo, phi) = bbox(rings.iter().flatten().map(|&v| set.points[v]));
+    for (k, (r, rings)) in polygons.iter().enumerate() {
+        let (r, region) = (*r, &set.regions[*r]);
+        {
+            let (plo, phi) = bbox(rings.iter().flatten().map(|&v| ring_points[v]));
             let mut clash = None;
             grid.visit(plo, phi, |f| {
-                if clash.is_some() || !inside(&set.points, rings, centroids[f]) {
+                if clash.is_some() || !inside(ring_points, rings, centroids[f]) {
                     return;
                 }
                 match owner[f] {
