@@ -19,6 +19,10 @@ pub mod triangulate;
 use crate::methods::StopReason;
 use regions::{RegionSet, polygon_area};
 
+/// A round changes a region's value by at most this factor (or its inverse), so that a region
+/// the map cannot resize further does not run away.
+pub(crate) const MIN_CORRECTION: f64 = 0.5;
+
 /// A polygon's rings (exterior first, then holes), each a list of positions without the
 /// closing repetition.
 pub type Polygon = Vec<Vec<[f64; 2]>>;

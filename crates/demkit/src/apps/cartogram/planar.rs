@@ -2,11 +2,14 @@
 //! repeated from the map reached while the regions' areas are still off their values.
 
 use super::triangulate::RegionMesh;
-use super::{Cartogram, Config, Polygon, finish};
+use super::{Cartogram, Config, MIN_CORRECTION, Polygon, finish};
 use crate::geometry::count_nonpositive;
 use crate::methods::{ProgressFn, StopReason, dem};
 use crate::{Result, TriMesh};
 use std::time::Instant;
+
+/// The best round so far: its worst error, the regions' rings and the mesh positions.
+type BestRound = (f64, Vec<Vec<Polygon>>, Vec<[f64; 3]>);
 
 /// The population of every face (DEM paper §6.1): a region's value spread over its faces in
 /// proportion to their areas, and the sea at the regions' mean density (value per area), so
@@ -33,7 +36,10 @@ pub fn face_population(values: &[f64], face_region: &[Option<usize>], areas: &[f
 ///
 /// The mesh of [`RegionMesh::build`] is mapped by DEM; while the worst region's area/value is
 /// more than `config.tolerance` off the mean and rounds are left, DEM runs again from the map
-/// reached, with the same face populations (the diffusion restarts from the current density).
+/// reached, with every region's value divided by 1 + its remaining error (at most by a factor
+/// 2 either way per round): the discrete map is biased at the regions' borders (a vertex's
+/// density averages both sides), and this fixed-point correction removes the bias. The round
+/// with the smallest worst error is the result.
 /// The result is scaled so that the regions' total area is the input's and moved so that their
 /// area centroid is the input's.
 pub fn run(
@@ -58,8 +64,8 @@ pub fn run(
     let mut iterations = 0;
     let mut rounds = 0;
     let mut stop_reason = StopReason::Tolerance;
-    let mut coordinates = Vec::new();
     let mut notes = Vec::new();
+    let mut best: Option<BestRound> = None;
     // The values the populations are made of: the regions' own at first, then corrected by
     // each round's remaining error (a region that came out too large gets a smaller value).
     let mut effective = values.clone();
@@ -90,16 +96,20 @@ pub fn run(
                 ]
             })
             .collect();
-        coordinates = output_coordinates(set, &mesh, &positions);
+        let coordinates = output_coordinates(set, &mesh, &positions);
         let errors = super::ratio_errors(&values, &coordinates);
         let worst = errors.iter().fold(0.0f64, |m, e| m.max(e.abs()));
+        if best.as_ref().is_none_or(|b| worst < b.0) {
+            best = Some((worst, coordinates, positions.clone()));
+        }
         if worst <= config.tolerance || stop_reason == StopReason::MaxIter {
             break;
         }
         for (v, e) in effective.iter_mut().zip(&errors) {
-            *v /= 1.0 + e;
+            *v /= (1.0 + e).clamp(MIN_CORRECTION, 1.0 / MIN_CORRECTION);
         }
     }
+    let (_, coordinates, positions) = best.unwrap_or_default();
     let flipped = count_nonpositive(&positions, &mesh.faces);
     Ok(finish(
         set,

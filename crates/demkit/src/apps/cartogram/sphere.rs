@@ -10,7 +10,7 @@
 use super::planar::face_population;
 use super::regions::RegionSet;
 use super::triangulate::assign_faces;
-use super::{Cartogram, Config, Polygon, Run, figures};
+use super::{Cartogram, Config, MIN_CORRECTION, Polygon, Run, figures};
 use crate::geometry::face_areas;
 use crate::geometry::sphere::{
     mat_vec, normalize, project_from_north, rotation_to_north, spherical_orientation,
@@ -356,7 +356,8 @@ pub fn run(
     let (mut iterations, mut rounds) = (0, 0);
     let mut stop_reason = StopReason::Tolerance;
     let mut notes = Vec::new();
-    let mut out_areas = in_areas.clone();
+    // The best round so far: (worst error, positions, region areas).
+    let mut best: Option<(f64, Vec<[f64; 3]>, Vec<f64>)> = None;
     let tri = TriMesh::new(mesh.points.clone(), mesh.faces.clone());
     for round in 0..config.rounds.max(1) {
         let population = face_population(&effective, &mesh.face_region, &areas0);
@@ -370,16 +371,20 @@ pub fn run(
                 notes.push(n);
             }
         }
-        out_areas = region_areas(&face_areas(&positions, &mesh.faces));
+        let out_areas = region_areas(&face_areas(&positions, &mesh.faces));
         let errors = super::ratio_errors_of_areas(&values, &out_areas);
         let worst = errors.iter().fold(0.0f64, |m, e| m.max(e.abs()));
+        if best.as_ref().is_none_or(|b| worst < b.0) {
+            best = Some((worst, positions.clone(), out_areas));
+        }
         if worst <= config.tolerance || stop_reason == StopReason::MaxIter {
             break;
         }
         for (v, e) in effective.iter_mut().zip(&errors) {
-            *v /= 1.0 + e;
+            *v /= (1.0 + e).clamp(MIN_CORRECTION, 1.0 / MIN_CORRECTION);
         }
     }
+    let (_, positions, out_areas) = best.unwrap_or_default();
     let coordinates = lon_lat_rings(set, &mesh, &positions);
     let run = Run {
         iterations,

@@ -52,15 +52,16 @@ impl RegionMesh {
         let mut segments: Vec<[usize; 2]> = Vec::new();
         let mut chains = HashMap::new();
         let edges = set.edges();
+        let sizing = Sizing::new(set, h);
         for ([a, b], _) in &edges {
-            let chain = subdivide(&mut points, *a, *b, h, &mut segments);
+            let chain = subdivide(&mut points, *a, *b, &|p| sizing.at(p), &mut segments);
             chains.insert([*a, *b], chain);
         }
         let corners = [flo, [fhi[0], flo[1]], fhi, [flo[0], fhi[1]]];
         let c0 = points.len();
         points.extend_from_slice(&corners);
         for k in 0..4 {
-            subdivide(&mut points, c0 + k, c0 + (k + 1) % 4, h, &mut segments);
+            subdivide(&mut points, c0 + k, c0 + (k + 1) % 4, &|_| h, &mut segments);
         }
 
         // The lattice, clear of the region edges and the frame.
@@ -69,7 +70,27 @@ impl RegionMesh {
             let (pa, pb) = (set.points[*a], set.points[*b]);
             grid.add_box(min2(pa, pb, 0.0), max2(pa, pb, 0.0), i);
         }
-        let clear = CLEARANCE * h;
+        let clear_of_edges = |p: [f64; 2], clear: f64| {
+            if p[0] - flo[0] < clear
+                || fhi[0] - p[0] < clear
+                || p[1] - flo[1] < clear
+                || fhi[1] - p[1] < clear
+            {
+                return false;
+            }
+            let mut near = false;
+            grid.visit(
+                [p[0] - clear, p[1] - clear],
+                [p[0] + clear, p[1] + clear],
+                |i| {
+                    if !near {
+                        let [a, b] = edges[i].0;
+                        near = segment_distance(p, set.points[a], set.points[b]) < clear;
+                    }
+                },
+            );
+            !near
+        };
         let dy = 0.5 * 3f64.sqrt() * h;
         let rows = ((fhi[1] - flo[1]) / dy).floor() as usize;
         for j in 1..=rows {
@@ -79,26 +100,27 @@ impl RegionMesh {
             while x < fhi[0] {
                 let p = [x, y];
                 x += h;
-                if p[0] - flo[0] < clear
-                    || fhi[0] - p[0] < clear
-                    || p[1] - flo[1] < clear
-                    || fhi[1] - p[1] < clear
-                {
-                    continue;
-                }
-                let mut near = false;
-                grid.visit(
-                    [p[0] - clear, p[1] - clear],
-                    [p[0] + clear, p[1] + clear],
-                    |i| {
-                        if !near {
-                            let [a, b] = edges[i].0;
-                            near = segment_distance(p, set.points[a], set.points[b]) < clear;
-                        }
-                    },
-                );
-                if !near {
+                if sizing.at(p) >= h && clear_of_edges(p, CLEARANCE * h) {
                     points.push(p);
+                }
+            }
+        }
+        // Finer points around small polygons: quadtree cells split until no larger than the
+        // spacing wanted at their centre, a point at the centre of each leaf.
+        let mut done = std::collections::HashSet::new();
+        for z in &sizing.small {
+            let reach = (h - z.2) / GRADING;
+            let cell = |x: f64, k: usize| ((x - flo[k]) / h).floor().max(0.0) as i64;
+            for i in cell(z.0[0] - reach, 0)..=cell(z.1[0] + reach, 0) {
+                for j in cell(z.0[1] - reach, 1)..=cell(z.1[1] + reach, 1) {
+                    if done.insert((i, j)) {
+                        let lo = [flo[0] + i as f64 * h, flo[1] + j as f64 * h];
+                        quadtree(lo, h, &sizing, &mut |c, s| {
+                            if s < h && clear_of_edges(c, CLEARANCE * s) {
+                                points.push(c);
+                            }
+                        });
+                    }
                 }
             }
         }
@@ -148,23 +170,101 @@ impl RegionMesh {
     }
 }
 
-/// Splits the segment `a`–`b` into `⌈|ab| / h⌉` equal pieces: adds the inner points to
-/// `points`, the pieces to `segments`, and returns the inner points' indices from `a` to `b`.
+/// A polygon gets finer spacing when spacing h would give it fewer faces than this.
+const MIN_POLYGON_FACES: f64 = 100.0;
+
+/// How fast the finer spacing around a small polygon grows back to h, per unit distance.
+const GRADING: f64 = 0.5;
+
+/// The spacing wanted across the mesh: h, except around polygons too small to get
+/// [`MIN_POLYGON_FACES`] faces at spacing h, where it is `s_p = √(2 A_p / MIN_POLYGON_FACES)`
+/// (at least h/64) on the polygon's bounding box and grows by [`GRADING`] with the distance.
+struct Sizing {
+    h: f64,
+    /// Bounding box and spacing of each small polygon.
+    small: Vec<([f64; 2], [f64; 2], f64)>,
+}
+
+impl Sizing {
+    fn new(set: &RegionSet, h: f64) -> Self {
+        let mut small = Vec::new();
+        for region in &set.regions {
+            for rings in &region.polygons {
+                let coords: Vec<Vec<[f64; 2]>> = rings
+                    .iter()
+                    .map(|r| r.iter().map(|&v| set.points[v]).collect())
+                    .collect();
+                let area = super::regions::polygon_area(&coords).abs();
+                let s = (2.0 * area / MIN_POLYGON_FACES).sqrt().max(h / 64.0);
+                if s < h {
+                    let (lo, hi) = bbox(coords[0].iter().copied());
+                    small.push((lo, hi, s));
+                }
+            }
+        }
+        Sizing { h, small }
+    }
+
+    /// The spacing wanted at `p`.
+    fn at(&self, p: [f64; 2]) -> f64 {
+        self.small.iter().fold(self.h, |m, (lo, hi, s)| {
+            let dx = (lo[0] - p[0]).max(p[0] - hi[0]).max(0.0);
+            let dy = (lo[1] - p[1]).max(p[1] - hi[1]).max(0.0);
+            m.min(s + GRADING * (dx * dx + dy * dy).sqrt())
+        })
+    }
+}
+
+/// Visits the leaves of the quadtree over the square at `lo` of side `size` whose cells are
+/// split until no larger than the spacing at their centre: `leaf(centre, spacing)`.
+fn quadtree(lo: [f64; 2], size: f64, sizing: &Sizing, leaf: &mut dyn FnMut([f64; 2], f64)) {
+    let c = [lo[0] + 0.5 * size, lo[1] + 0.5 * size];
+    let s = sizing.at(c);
+    if size <= s * 1.000_001 {
+        leaf(c, s);
+        return;
+    }
+    let half = 0.5 * size;
+    for (dx, dy) in [(0.0, 0.0), (half, 0.0), (0.0, half), (half, half)] {
+        quadtree([lo[0] + dx, lo[1] + dy], half, sizing, leaf);
+    }
+}
+
+/// Splits the segment `a`–`b` into pieces about as long as the spacing wanted along it
+/// (`spacing`, evaluated at both ends of each piece), stretched evenly to end at `b`: adds the
+/// inner points to `points`, the pieces to `segments`, and returns the inner points' indices
+/// from `a` to `b`.
 fn subdivide(
     points: &mut Vec<[f64; 2]>,
     a: usize,
     b: usize,
-    h: f64,
+    spacing: &dyn Fn([f64; 2]) -> f64,
     segments: &mut Vec<[usize; 2]>,
 ) -> Vec<usize> {
     let (pa, pb) = (points[a], points[b]);
     let len = ((pb[0] - pa[0]).powi(2) + (pb[1] - pa[1]).powi(2)).sqrt();
-    let n = ((len / h).ceil() as usize).max(1);
-    let mut chain = Vec::with_capacity(n - 1);
+    let at = |t: f64| [pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1])];
+    // Parameters of the piece ends, greedily; then scaled so that the last one is exactly 1.
+    let mut ts = vec![0.0];
+    let mut t = 0.0;
+    while t < 1.0 {
+        let mut step = spacing(at(t)) / len;
+        for _ in 0..2 {
+            step = step.min(spacing(at((t + step).min(1.0))) / len);
+        }
+        t += step.max(1e-9);
+        ts.push(t);
+    }
+    // When the last piece overshoots by more than half its length, stretch instead of shrink.
+    let n = ts.len();
+    if n > 2 && ts[n - 1] - 1.0 > 0.5 * (ts[n - 1] - ts[n - 2]) {
+        ts.pop();
+    }
+    let last = *ts.last().unwrap_or(&1.0);
+    let mut chain = Vec::with_capacity(ts.len());
     let mut prev = a;
-    for k in 1..n {
-        let t = k as f64 / n as f64;
-        points.push([pa[0] + t * (pb[0] - pa[0]), pa[1] + t * (pb[1] - pa[1])]);
+    for &t in &ts[1..ts.len() - 1] {
+        points.push(at(t / last));
         let v = points.len() - 1;
         segments.push([prev, v]);
         chain.push(v);
@@ -330,6 +430,60 @@ mod tests {
             });
             assert!(has, "ring piece {w:?} is not a mesh edge");
         }
+    }
+
+    #[test]
+    fn subdivision_follows_the_spacing() {
+        let mut points = vec![[0.0, 0.0], [1.0, 0.0]];
+        let mut segs = Vec::new();
+        // Constant spacing 0.3 on a unit segment: three pieces of 1/3.
+        let chain = subdivide(&mut points, 0, 1, &|_| 0.3, &mut segs);
+        assert_eq!(chain.len(), 2);
+        assert!(
+            (points[2][0] - 1.0 / 3.0).abs() < 1e-12 && (points[3][0] - 2.0 / 3.0).abs() < 1e-12
+        );
+        assert_eq!(segs, vec![[0, 2], [2, 3], [3, 1]]);
+        // Spacing growing away from x = 0: pieces grow along the segment.
+        let chain = subdivide(&mut points, 0, 1, &|p| 0.01 + 0.5 * p[0], &mut segs);
+        let xs: Vec<f64> = chain.iter().map(|&v| points[v][0]).collect();
+        assert!(xs.len() > 5 && xs.len() < 20, "{xs:?}");
+        assert!(xs.windows(3).all(|w| w[2] - w[1] > w[1] - w[0]), "{xs:?}");
+    }
+
+    #[test]
+    fn a_small_region_gets_a_finer_mesh() {
+        // A 0.05-wide square in the corner of a 4×4 block: at the block's spacing it would be
+        // two triangles; the graded spacing gives it about MIN_POLYGON_FACES.
+        let big = vec![
+            [0.05, 0.0],
+            [4.0, 0.0],
+            [4.0, 4.0],
+            [0.0, 4.0],
+            [0.0, 0.05],
+            [0.05, 0.05],
+        ];
+        let a = raw(vec![vec![big]], "big");
+        let b = raw(vec![vec![square(0.0, 0.0, 0.05)]], "small");
+        let set = RegionSet::build(&[a, b], "t").unwrap();
+        let m = RegionMesh::build(&set, 2000, "t").unwrap();
+        let n_small = m.face_region.iter().filter(|r| **r == Some(1)).count();
+        assert!((50..400).contains(&n_small), "{n_small}");
+        let small_area: f64 = m
+            .faces
+            .iter()
+            .zip(&m.face_region)
+            .filter(|(_, r)| **r == Some(1))
+            .map(|(f, _)| area(&m.points, *f))
+            .sum();
+        assert!((small_area - 0.0025).abs() < 1e-12);
+        let plain =
+            RegionSet::build(&[raw(vec![vec![square(0.0, 0.0, 4.0)]], "big")], "t").unwrap();
+        let n_plain = RegionMesh::build(&plain, 2000, "t").unwrap().faces.len();
+        assert!(
+            m.faces.len() < n_plain + 1000,
+            "{} vs {n_plain}",
+            m.faces.len()
+        );
     }
 
     #[test]
