@@ -154,6 +154,14 @@ pub struct MapArgs {
     /// Also draw the initial and final density histograms side by side (.png).
     #[arg(long)]
     pub histogram: Option<PathBuf>,
+    /// The view of --render for sphere and torus maps: AZIMUTH:ELEVATION in degrees, z up
+    /// (default: -60:30, or -90:60 when the map is flattest along z); planar maps are drawn
+    /// flat from above unless this is given.
+    #[arg(long, allow_hyphen_values = true)]
+    pub view: Option<String>,
+    /// Height in pixels of the --render and --histogram pictures (64 to 4096).
+    #[arg(long, default_value_t = 1024)]
+    pub size: usize,
     /// No progress bar and no warnings.
     #[arg(long)]
     pub quiet: bool,
@@ -226,6 +234,21 @@ pub struct RegisterArgs {
     /// Output mesh (.obj or .ply): A's faces, vertices on B's surface.
     #[arg(long)]
     pub out: PathBuf,
+    /// LSDEM weight α of the density term (default: the paper's).
+    #[arg(long)]
+    pub alpha: Option<f64>,
+    /// LSDEM weight β of the harmonic term (default: the paper's).
+    #[arg(long)]
+    pub beta: Option<f64>,
+    /// LSDEM weight γ of the landmark term (default: the paper's).
+    #[arg(long)]
+    pub gamma: Option<f64>,
+    /// LSDEM iteration limit (default: the paper's).
+    #[arg(long)]
+    pub max_iter: Option<usize>,
+    /// LSDEM stopping tolerance (default: the paper's).
+    #[arg(long)]
+    pub epsilon: Option<f64>,
     /// Write a JSON report here.
     #[arg(long)]
     pub report: Option<PathBuf>,
@@ -245,6 +268,13 @@ pub struct RenderArgs {
     /// One value per face (population-file format) to colour by; default: plain shading.
     #[arg(long)]
     pub color: Option<PathBuf>,
+    /// AZIMUTH:ELEVATION in degrees, z up; default: planar meshes from above, surfaces
+    /// flattest along z (height fields) from -90:60, others from -60:30.
+    #[arg(long, allow_hyphen_values = true)]
+    pub view: Option<String>,
+    /// Picture size in pixels (64 to 4096).
+    #[arg(long, default_value_t = 1024)]
+    pub size: usize,
 }
 
 /// `demkit generate KIND ... --out FILE`

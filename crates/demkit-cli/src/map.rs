@@ -194,9 +194,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     if let Some(uv) = &a.uv_out {
         check_uv_extension(uv)?;
     }
-    for png in [&a.render, &a.histogram].into_iter().flatten() {
-        crate::render::check_png_extension(png)?;
-    }
+    crate::render::check_map_args(a)?;
     let mesh = read_valid_mesh(&a.mesh, a.quiet)?;
     let topo = topology(&mesh);
     let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
@@ -230,10 +228,10 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         c.landmarks.as_deref(),
     );
     if let Some(png) = &a.render {
-        crate::render::render_map(png, &mesh, &c)?;
+        crate::render::render_map(png, &mesh, &c, a)?;
     }
     if let Some(png) = &a.histogram {
-        crate::render::render_histograms(png, &mesh, &c)?;
+        crate::render::render_histograms(png, &mesh, &c, a)?;
     }
     if let Some(path) = &a.report {
         let input = InputSummary {
@@ -243,12 +241,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             genus: topo.genus,
         };
         let report = Report::new(result, input, &metrics, t0.elapsed().as_secs_f64());
-        let text = serde_json::to_string_pretty(&report).map_err(|e| Failure {
-            code: 1,
-            message: e.to_string(),
-        })?;
-        std::fs::write(path, text + "\n")
-            .map_err(|e| Failure::input(format!("{}: {e}", path.display())))?;
+        crate::report::write_json(path, &report)?;
     }
     if !a.quiet {
         for n in &result.notes {

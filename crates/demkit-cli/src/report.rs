@@ -1,8 +1,10 @@
 //! The JSON report of `demkit map --report` (DESIGN.md, "Report"; the names are the contract).
 
+use crate::Failure;
 use demkit::methods::MapResult;
 use demkit::metrics::Metrics;
 use serde::Serialize;
+use std::path::Path;
 
 /// The input summary.
 #[derive(Serialize)]
@@ -69,4 +71,14 @@ impl Report {
             notes: result.notes.clone(),
         }
     }
+}
+
+/// Writes any report as pretty JSON followed by a newline.
+pub fn write_json(path: &Path, report: &impl Serialize) -> Result<(), Failure> {
+    let text = serde_json::to_string_pretty(report).map_err(|e| Failure {
+        code: 1,
+        message: e.to_string(),
+    })?;
+    std::fs::write(path, text + "\n")
+        .map_err(|e| Failure::input(format!("{}: {e}", path.display())))
 }

@@ -1,4 +1,6 @@
-//! What the maps are for (the papers' applications): texture coordinates so far.
+//! What the maps are for (the papers' applications): cartograms, registration and texture
+//! coordinates.
 
 pub mod cartogram;
+pub mod register;
 pub mod texture;

@@ -2,7 +2,7 @@
 
 use std::f64::consts::{PI, TAU};
 
-use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+use crate::mesh::triangulate::constrained_delaunay;
 
 use super::{at_least, fits, positive};
 use crate::{Error, Result, TriMesh};
@@ -254,17 +254,14 @@ fn holed_domain(outer: Outer, holes: &[(f64, f64, f64)], resolution: usize) -> R
     }
 
     // Boundary loops: (first vertex, vertex count); loop 0 is the outer boundary.
-    let mut points: Vec<Point2<f64>> = outer_points
-        .iter()
-        .map(|p| Point2::new(p[0], p[1]))
-        .collect();
+    let mut points: Vec<[f64; 2]> = outer_points.iter().map(|p| [p[0], p[1]]).collect();
     let mut loops = vec![(0, points.len())];
     for &(cx, cy, r) in holes {
         let m = ((TAU * r / h).ceil() as usize).max(8);
         loops.push((points.len(), m));
         for j in 0..m {
             let a = TAU * j as f64 / m as f64;
-            points.push(Point2::new(cx + r * a.cos(), cy + r * a.sin()));
+            points.push([cx + r * a.cos(), cy + r * a.sin()]);
         }
     }
     let n_boundary = points.len();
@@ -282,7 +279,7 @@ fn holed_domain(outer: Outer, holes: &[(f64, f64, f64)], resolution: usize) -> R
                     .iter()
                     .all(|&(cx, cy, r)| (x - cx).hypot(y - cy) >= r + margin);
             if inside {
-                points.push(Point2::new(x, y));
+                points.push([x, y]);
             }
         }
     }
@@ -292,35 +289,28 @@ fn holed_domain(outer: Outer, holes: &[(f64, f64, f64)], resolution: usize) -> R
     for &(start, m) in &loops {
         edges.extend((0..m).map(|j| [start + j, start + (j + 1) % m]));
     }
-    let mut conflicts = 0usize;
-    let cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(
-        points.clone(),
-        edges,
-        |_| conflicts += 1,
-    )
-    .map_err(|e| Error::Argument(format!("cannot triangulate the domain with holes: {e}")))?;
-    if conflicts > 0 || cdt.num_vertices() != points.len() {
-        return Err(Error::Argument(
+    let cdt = constrained_delaunay(&points, &edges).map_err(|_| {
+        Error::Argument(
             "cannot triangulate the domain with holes: boundary vertices coincide or cross; \
              increase the resolution or separate the holes"
                 .into(),
-        ));
-    }
+        )
+    })?;
 
     // Which loop a vertex lies on (None for lattice points).
     let loop_of = |v: usize| loops.iter().position(|&(s, m)| v >= s && v < s + m);
-    let mut faces = Vec::with_capacity(cdt.num_inner_faces());
-    for face in cdt.inner_faces() {
-        let v = face.vertices().map(|h| h.fix().index());
-        // No vertex lies inside a hole, so a face inside a hole has all three corners on that
-        // hole's (convex) polygon, and conversely.
-        let l = loop_of(v[0]);
-        if l.is_some_and(|l| l > 0) && l == loop_of(v[1]) && l == loop_of(v[2]) {
-            continue;
-        }
-        faces.push(v.map(|i| i as u32));
-    }
-    let positions = points.iter().map(|p| [p.x, p.y, 0.0]).collect();
+    let faces: Vec<[u32; 3]> = cdt
+        .faces
+        .into_iter()
+        .filter(|f| {
+            // No vertex lies inside a hole, so a face inside a hole has all three corners on
+            // that hole's (convex) polygon, and conversely.
+            let v = f.map(|i| i as usize);
+            let l = loop_of(v[0]);
+            !(l.is_some_and(|l| l > 0) && l == loop_of(v[1]) && l == loop_of(v[2]))
+        })
+        .collect();
+    let positions = points.iter().map(|p| [p[0], p[1], 0.0]).collect();
     Ok(TriMesh::new(positions, faces))
 }
 

@@ -15,6 +15,29 @@ pub use vec3::{add, cross, dot, norm, scale, sub};
 
 use rayon::prelude::*;
 
+/// The axis-aligned bounding box of points: (least, largest) coordinates; (+∞, −∞) for no points.
+pub fn bounding_box(points: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for d in 0..3 {
+            lo[d] = lo[d].min(p[d]);
+            hi[d] = hi[d].max(p[d]);
+        }
+    }
+    (lo, hi)
+}
+
+/// The length of the diagonal of the points' bounding box (the scale of "within 1e-6 of the
+/// surface" and of registration errors); 0 for fewer than one point.
+pub fn bounding_box_diagonal(points: &[[f64; 3]]) -> f64 {
+    if points.is_empty() {
+        return 0.0;
+    }
+    let (lo, hi) = bounding_box(points);
+    norm(sub(hi, lo))
+}
+
 /// Area of the triangle (a, b, c) in R³ (unsigned): ½ |(b − a) × (c − a)|.
 pub fn triangle_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     0.5 * norm(cross(sub(b, a), sub(c, a)))

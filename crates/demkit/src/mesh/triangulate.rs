@@ -60,14 +60,7 @@ pub fn constrained_delaunay(
     segments: &[[usize; 2]],
 ) -> Result<PlanarTriangulation> {
     let cdt = build(points, segments)?;
-    let faces = cdt
-        .inner_faces()
-        .map(|f| f.vertices().map(|v| v.fix().index() as u32))
-        .collect();
-    Ok(PlanarTriangulation {
-        points: positions(&cdt),
-        faces,
-    })
+    Ok(extract(&cdt, |_| true))
 }
 
 /// A refined constrained Delaunay triangulation of the region that the segments enclose: the
@@ -108,20 +101,13 @@ pub fn refined_constrained_delaunay(
     for f in &result.excluded_faces {
         excluded[f.index()] = true;
     }
-    let faces: Vec<[u32; 3]> = cdt
-        .inner_faces()
-        .filter(|f| !excluded[f.fix().index()])
-        .map(|f| f.vertices().map(|v| v.fix().index() as u32))
-        .collect();
-    if faces.is_empty() {
+    let t = extract(&cdt, |f| !excluded[f]);
+    if t.faces.is_empty() {
         return Err(Error::InvalidMesh(
             "the boundary segments enclose no area to triangulate".into(),
         ));
     }
-    Ok(PlanarTriangulation {
-        points: positions(&cdt),
-        faces,
-    })
+    Ok(t)
 }
 
 /// The faces whose centroid lies inside the region bounded by `loops` (closed polygons given
@@ -248,22 +234,35 @@ fn build(points: &[[f64; 2]], segments: &[[usize; 2]]) -> Result<Cdt> {
             "two points to triangulate are at the same position".into(),
         ));
     }
-    if conflicts > 0 {
-        return Err(Error::InvalidMesh(format!(
-            "{conflicts} segments cross or overlap other segments"
-        )));
+    let mut distinct: Vec<[usize; 2]> = segments
+        .iter()
+        .map(|s| [s[0].min(s[1]), s[0].max(s[1])])
+        .collect();
+    distinct.sort_unstable();
+    distinct.dedup();
+    if conflicts > 0 || cdt.num_constraints() != distinct.len() {
+        return Err(Error::InvalidMesh(
+            "segments cross, overlap or pass through other points".into(),
+        ));
     }
     Ok(cdt)
 }
 
-/// The CDT's vertex positions by index.
-fn positions(cdt: &Cdt) -> Vec<[f64; 2]> {
-    cdt.vertices()
+/// The CDT's vertices by index and its inner faces (by face index) that `keep` accepts.
+fn extract(cdt: &Cdt, keep: impl Fn(usize) -> bool) -> PlanarTriangulation {
+    let points = cdt
+        .vertices()
         .map(|v| {
             let p = v.position();
             [p.x, p.y]
         })
-        .collect()
+        .collect();
+    let faces = cdt
+        .inner_faces()
+        .filter(|f| keep(f.fix().index()))
+        .map(|f| f.vertices().map(|v| v.fix().index() as u32))
+        .collect();
+    PlanarTriangulation { points, faces }
 }
 
 #[cfg(test)]

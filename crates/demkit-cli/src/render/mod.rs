@@ -1,0 +1,243 @@
+//! Pictures: `demkit render`, and `map --render` / `map --histogram`.
+//!
+//! Meshes are drawn by a small z-buffered rasterizer ([`raster`]) through an orthographic
+//! camera ([`camera`]): planar meshes flat from above, surfaces in space lit from a chosen view;
+//! faces are coloured with viridis ([`colormap`]). The histograms follow the papers' figures
+//! ([`histogram`], [`plot`]).
+
+mod camera;
+mod colormap;
+mod font;
+mod histogram;
+mod plot;
+mod raster;
+mod scene;
+
+use crate::Failure;
+use crate::args::{MapArgs, RenderArgs};
+use crate::map::Computed;
+use camera::View;
+use demkit::TriMesh;
+use demkit::geometry::face_areas;
+use demkit::metrics::{Domain, map_areas};
+use raster::Rgb;
+use std::path::Path;
+use tiny_skia::Pixmap;
+
+/// The colour of faces when `render` is given no values.
+const PLAIN: Rgb = [176, 190, 212];
+
+/// Pictures are written as .png only.
+pub fn check_png_extension(path: &Path) -> Result<(), Failure> {
+    let png = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if png {
+        Ok(())
+    } else {
+        Err(Failure::input(format!(
+            "cannot write '{}': pictures are written as .png",
+            path.display()
+        )))
+    }
+}
+
+/// Checks `map`'s picture options before the map is computed: .png names, `--view`, `--size`.
+pub fn check_map_args(a: &MapArgs) -> Result<(), Failure> {
+    for png in [&a.render, &a.histogram].into_iter().flatten() {
+        check_png_extension(png)?;
+    }
+    if a.render.is_some() || a.histogram.is_some() {
+        parse_view(a.view.as_deref())?;
+        check_size(a.size)?;
+    }
+    Ok(())
+}
+
+/// Draws the mapped mesh coloured by the input population density P(T)/A(T) (A on the input
+/// surface) over its mean ΣP/ΣA, on a log scale: planar maps flat from above, sphere and torus
+/// maps lit from `--view`.
+pub fn render_map(png: &Path, mesh: &TriMesh, c: &Computed, a: &MapArgs) -> Result<(), Failure> {
+    let size = check_size(a.size)?;
+    let positions = &c.result.positions;
+    let planar = c.domain == Domain::Plane;
+    let view = parse_view(a.view.as_deref())?.unwrap_or_else(|| default_view(positions, planar));
+    let areas = face_areas(&mesh.positions, &mesh.faces);
+    let log_density: Vec<f64> = histogram::normalized_densities(&c.population, &areas)
+        .iter()
+        .map(|d| d.ln())
+        .collect();
+    let colors = value_colors(&log_density);
+    let style = scene::Style {
+        view,
+        lit: !planar,
+        size,
+    };
+    write_png(png, scene::draw(positions, &mesh.faces, &colors, style))
+}
+
+/// Draws the histograms of the face density P(T)/A(T) over its mean on the initial and on the
+/// final map side by side, as in the papers' figures.
+pub fn render_histograms(
+    png: &Path,
+    mesh: &TriMesh,
+    c: &Computed,
+    a: &MapArgs,
+) -> Result<(), Failure> {
+    let size = check_size(a.size)?;
+    let (initial, _) = map_areas(&c.result.initial, &mesh.faces, c.domain);
+    let (last, _) = map_areas(&c.result.positions, &mesh.faces, c.domain);
+    let d0 = histogram::normalized_densities(&c.population, &initial);
+    let d1 = histogram::normalized_densities(&c.population, &last);
+    write_png(png, plot::histograms(&d0, &d1, size))
+}
+
+/// Runs the render command; returns the exit code.
+pub fn run(a: &RenderArgs) -> Result<u8, Failure> {
+    check_png_extension(&a.out)?;
+    let view = parse_view(a.view.as_deref())?;
+    let size = check_size(a.size)?;
+    let mesh = crate::map::read_valid_mesh(&a.mesh, false)?;
+    let colors = match &a.color {
+        Some(path) => value_colors(&read_face_values(path, mesh.n_faces())?),
+        None => vec![PLAIN; mesh.n_faces()],
+    };
+    let planar = is_planar(&mesh.positions);
+    let style = scene::Style {
+        view: view.unwrap_or_else(|| default_view(&mesh.positions, planar)),
+        lit: !planar,
+        size,
+    };
+    write_png(
+        &a.out,
+        scene::draw(&mesh.positions, &mesh.faces, &colors, style),
+    )?;
+    Ok(0)
+}
+
+/// One finite value per face from a file in the population-file format.
+fn read_face_values(path: &Path, n_faces: usize) -> Result<Vec<f64>, Failure> {
+    let values = demkit::population::read_population_file(path).map_err(|e| {
+        let f = Failure::from(e);
+        Failure {
+            message: format!("--color: {}", f.message),
+            ..f
+        }
+    })?;
+    if values.len() != n_faces {
+        return Err(Failure::input(format!(
+            "--color file {} has {} values but the mesh has {} faces",
+            path.display(),
+            values.len(),
+            n_faces
+        )));
+    }
+    if let Some((f, v)) = values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(Failure::input(format!(
+            "--color file {}: the value of face {f} is {v}",
+            path.display()
+        )));
+    }
+    Ok(values)
+}
+
+/// Viridis colours of values, spread between their 0.5 % and 99.5 % quantiles.
+fn value_colors(values: &[f64]) -> Vec<Rgb> {
+    colormap::normalize(values)
+        .into_iter()
+        .map(colormap::viridis)
+        .collect()
+}
+
+/// All z equal (up to rounding against the extent in x and y).
+fn is_planar(positions: &[[f64; 3]]) -> bool {
+    let e = extents(positions);
+    e[2] <= 1e-12 * e[0].max(e[1])
+}
+
+/// The default view: from above for planar meshes; steeply from the front for surfaces
+/// flattest along z (height fields, tori around the z-axis); obliquely otherwise.
+fn default_view(positions: &[[f64; 3]], planar: bool) -> View {
+    let e = extents(positions);
+    if planar {
+        View::TOP
+    } else if e[2] < 0.9 * e[0].min(e[1]) {
+        View::HIGH
+    } else {
+        View::OBLIQUE
+    }
+}
+
+/// The extent of the finite points along x, y and z.
+fn extents(positions: &[[f64; 3]]) -> [f64; 3] {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in positions.iter().filter(|p| p.iter().all(|c| c.is_finite())) {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    std::array::from_fn(|k| (hi[k] - lo[k]).max(0.0))
+}
+
+/// `--view` when given.
+fn parse_view(s: Option<&str>) -> Result<Option<View>, Failure> {
+    s.map(View::parse).transpose().map_err(Failure::input)
+}
+
+/// Picture sizes from 64 to 4096 pixels.
+fn check_size(size: usize) -> Result<usize, Failure> {
+    if (64..=4096).contains(&size) {
+        Ok(size)
+    } else {
+        Err(Failure::input(format!(
+            "--size must be from 64 to 4096 pixels, got {size}"
+        )))
+    }
+}
+
+/// Encodes and writes a picture; an unwritable path is an input error naming it.
+fn write_png(path: &Path, pixmap: Option<Pixmap>) -> Result<(), Failure> {
+    let internal = |m: String| Failure {
+        code: 1,
+        message: format!("cannot draw '{}': {m}", path.display()),
+    };
+    let pixmap = pixmap.ok_or_else(|| internal("no picture".into()))?;
+    let bytes = pixmap.encode_png().map_err(|e| internal(e.to_string()))?;
+    std::fs::write(path, bytes)
+        .map_err(|e| Failure::input(format!("cannot write '{}': {e}", path.display())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn planarity_and_default_views() {
+        let flat = [[0.0, 0.0, 1.0], [2.0, 0.0, 1.0], [0.0, 3.0, 1.0]];
+        assert!(is_planar(&flat));
+        assert_eq!(default_view(&flat, true), View::TOP);
+        let bump = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.5]];
+        assert!(!is_planar(&bump));
+        assert_eq!(default_view(&bump, false), View::HIGH);
+        let tall = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 3.0]];
+        assert_eq!(default_view(&tall, false), View::OBLIQUE);
+    }
+
+    #[test]
+    fn size_limits() {
+        assert!(check_size(64).is_ok() && check_size(4096).is_ok());
+        for bad in [0, 63, 4097] {
+            let e = check_size(bad).err().map(|f| (f.code, f.message));
+            assert_eq!(
+                e,
+                Some((
+                    2,
+                    format!("--size must be from 64 to 4096 pixels, got {bad}")
+                ))
+            );
+        }
+    }
+}
