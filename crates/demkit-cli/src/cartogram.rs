@@ -9,6 +9,9 @@ use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
 
+/// A worst area/value error above this is worth a warning.
+const WARN_ERROR: f64 = 0.05;
+
 /// One region in the report.
 #[derive(Serialize)]
 struct RegionEntry {
@@ -81,6 +84,12 @@ pub fn run(a: &CartogramArgs) -> Result<u8, Failure> {
     if !a.quiet {
         for n in &c.run.notes {
             eprintln!("note: {n}");
+        }
+        if c.worst_error > WARN_ERROR {
+            eprintln!(
+                "warning: the worst region's area/value is {:.1}% off the mean ratio (see --report)",
+                100.0 * c.worst_error
+            );
         }
         eprintln!(
             "cartogram: {} regions, {} iterations in {} rounds ({}), area/value error median {:.4} worst {:.4}, {:.2} s",
