@@ -1,6 +1,7 @@
-//! What the maps are for (the papers' applications): registration, remeshing and texture
-//! coordinates.
+//! What the maps are for (the papers' applications): remeshing, cartograms, registration and
+//! texture coordinates.
 
+pub mod cartogram;
 pub mod register;
 pub mod remesh;
 pub mod texture;

@@ -1,0 +1,527 @@
+//! End-to-end tests of `demkit cartogram` (DEM paper §6.1): grids and irregular regions made
+//! here as GeoJSON, the output checked for validity (simple rings, the input's ring
+//! structure), no overlaps, no gaps (shared borders identical), and areas proportional to the
+//! values; and the refusals.
+
+mod common;
+
+use common::Scratch;
+use serde_json::{Value, json};
+
+type Ring = Vec<[f64; 2]>;
+
+/// A closed GeoJSON ring.
+fn ring(points: &[[f64; 2]]) -> Value {
+    let mut v: Vec<Value> = points.iter().map(|p| json!([p[0], p[1]])).collect();
+    v.push(json!([points[0][0], points[0][1]]));
+    Value::Array(v)
+}
+
+fn square(x: f64, y: f64, s: f64) -> Vec<[f64; 2]> {
+    vec![[x, y], [x + s, y], [x + s, y + s], [x, y + s]]
+}
+
+fn feature(name: &str, value: f64, geometry: Value) -> Value {
+    json!({"type": "Feature", "properties": {"name": name, "pop": value}, "geometry": geometry})
+}
+
+/// An n×n grid of unit squares: the centre square has a square hole (a lake), the squares
+/// (0, 0) and (n−1, n−1) are one MultiPolygon, values spread over 1..10.
+fn grid(n: usize) -> Value {
+    let mut features = Vec::new();
+    let mut k = 0;
+    for i in 0..n {
+        for j in 0..n {
+            if (i, j) == (n - 1, n - 1) {
+                continue;
+            }
+            let value = 1.0 + ((k * 7) % 10) as f64;
+            k += 1;
+            let (x, y) = (i as f64, j as f64);
+            let g = if (i, j) == (0, 0) {
+                let last = (n - 1) as f64;
+                json!({"type": "MultiPolygon", "coordinates": [
+                    [ring(&square(x, y, 1.0))], [ring(&square(last, last, 1.0))]]})
+            } else if (i, j) == (n / 2, n / 2) {
+                let mut hole = square(x + 0.3, y + 0.3, 0.4);
+                hole.reverse();
+                json!({"type": "Polygon", "coordinates": [ring(&square(x, y, 1.0)), ring(&hole)]})
+            } else {
+                json!({"type": "Polygon", "coordinates": [ring(&square(x, y, 1.0))]})
+            };
+            features.push(feature(&format!("r{i}_{j}"), value, g));
+        }
+    }
+    json!({"type": "FeatureCollection", "features": features})
+}
+
+/// A deterministic pseudo-random sequence in [0, 1).
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// An n×n grid with jittered corners (each shared by up to four cells) and every edge bent
+/// at a shared midpoint: irregular country-like cells, values over 1..10 (log-uniform).
+fn irregular(n: usize, seed: u64) -> Value {
+    let mut rng = Lcg(seed);
+    let mut corner = vec![[0.0; 2]; (n + 1) * (n + 1)];
+    for i in 0..=n {
+        for j in 0..=n {
+            let jx = if i == 0 || i == n {
+                0.0
+            } else {
+                0.6 * rng.next() - 0.3
+            };
+            let jy = if j == 0 || j == n {
+                0.0
+            } else {
+                0.6 * rng.next() - 0.3
+            };
+            corner[i * (n + 1) + j] = [i as f64 + jx, j as f64 + jy];
+        }
+    }
+    let mut mids = std::collections::HashMap::new();
+    let mut features = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let cs = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)];
+            let mut pts = Vec::new();
+            for k in 0..4 {
+                let (a, b) = (cs[k], cs[(k + 1) % 4]);
+                let (pa, pb) = (corner[a.0 * (n + 1) + a.1], corner[b.0 * (n + 1) + b.1]);
+                let key = if a < b { (a, b) } else { (b, a) };
+                let off = 0.2 * rng.next() - 0.1;
+                let m = *mids.entry(key).or_insert_with(|| {
+                    let d = [pb[0] - pa[0], pb[1] - pa[1]];
+                    [
+                        0.5 * (pa[0] + pb[0]) - off * d[1],
+                        0.5 * (pa[1] + pb[1]) + off * d[0],
+                    ]
+                });
+                pts.push(pa);
+                pts.push(m);
+            }
+            let value = 10f64.powf(rng.next());
+            let g = json!({"type": "Polygon", "coordinates": [ring(&pts)]});
+            features.push(feature(&format!("c{i}_{j}"), value, g));
+        }
+    }
+    json!({"type": "FeatureCollection", "features": features})
+}
+
+/// A feature's polygons as rings without the closing point.
+fn polygons(f: &Value) -> Vec<Vec<Ring>> {
+    let g = &f["geometry"];
+    let coords = &g["coordinates"];
+    let polys: Vec<&Value> = match g["type"].as_str().unwrap() {
+        "Polygon" => vec![coords],
+        "MultiPolygon" => coords.as_array().unwrap().iter().collect(),
+        t => panic!("unexpected geometry {t}"),
+    };
+    polys
+        .into_iter()
+        .map(|p| {
+            p.as_array()
+                .unwrap()
+                .iter()
+                .map(|r| {
+                    let pts: Ring = r
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .map(|q| [q[0].as_f64().unwrap(), q[1].as_f64().unwrap()])
+                        .collect();
+                    assert_eq!(pts.first(), pts.last(), "ring not closed");
+                    pts[..pts.len() - 1].to_vec()
+                })
+                .collect()
+        })
+        .collect()
+}
+
+fn ring_area(r: &[[f64; 2]]) -> f64 {
+    (0..r.len())
+        .map(|i| {
+            let (p, q) = (r[i], r[(i + 1) % r.len()]);
+            p[0] * q[1] - p[1] * q[0]
+        })
+        .sum::<f64>()
+        / 2.0
+}
+
+fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+}
+
+fn inside(rings: &[Ring], c: [f64; 2]) -> bool {
+    let mut odd = false;
+    for r in rings {
+        for i in 0..r.len() {
+            let (a, b) = (r[i], r[(i + 1) % r.len()]);
+            if (a[1] > c[1]) != (b[1] > c[1])
+                && a[0] + (c[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]) > c[0]
+            {
+                odd = !odd;
+            }
+        }
+    }
+    odd
+}
+
+fn key(p: [f64; 2]) -> (u64, u64) {
+    (p[0].to_bits(), p[1].to_bits())
+}
+
+/// The figures the acceptance asks for.
+#[derive(Debug)]
+struct Figures {
+    median: f64,
+    worst: f64,
+    crossings: usize,
+    contained: usize,
+    boundary_loops: usize,
+    gap_area: f64,
+}
+
+/// Checks the output against the input: same features, properties and ring structure; rings
+/// oriented (exterior counter-clockwise, holes clockwise) without repeated vertices; counts
+/// crossing edges and regions inside others; the loops of edges used by one ring only (the
+/// union's boundary); area/value errors relative to the mean ratio.
+fn figures(input: &Value, output: &Value) -> Figures {
+    let fin = input["features"].as_array().unwrap();
+    let fout = output["features"].as_array().unwrap();
+    assert_eq!(fin.len(), fout.len());
+    let mut regions = Vec::new();
+    let mut ratios = Vec::new();
+    for (a, b) in fin.iter().zip(fout) {
+        assert_eq!(a["properties"], b["properties"]);
+        assert_eq!(a["geometry"]["type"], b["geometry"]["type"]);
+        let (pa, pb) = (polygons(a), polygons(b));
+        assert_eq!(pa.len(), pb.len());
+        let mut area = 0.0;
+        for (ra, rb) in pa.iter().zip(&pb) {
+            assert_eq!(ra.len(), rb.len(), "ring count");
+            for (j, r) in rb.iter().enumerate() {
+                let s = ring_area(r);
+                assert!(if j == 0 { s > 0.0 } else { s < 0.0 }, "ring orientation");
+                let mut keys: Vec<_> = r.iter().map(|&p| key(p)).collect();
+                keys.sort();
+                keys.dedup();
+                assert_eq!(keys.len(), r.len(), "a ring repeats a vertex");
+                area += s;
+            }
+        }
+        ratios.push(area / a["properties"]["pop"].as_f64().unwrap());
+        regions.push(pb);
+    }
+    // Edges (undirected, by exact coordinates) and how many ring sides use them.
+    let mut uses: std::collections::HashMap<((u64, u64), (u64, u64)), ([f64; 2], [f64; 2], usize)> =
+        Default::default();
+    for r in regions.iter().flatten().flatten() {
+        for i in 0..r.len() {
+            let (p, q) = (r[i], r[(i + 1) % r.len()]);
+            let (kp, kq) = (key(p), key(q));
+            let k = if kp < kq { (kp, kq) } else { (kq, kp) };
+            uses.entry(k).or_insert((p, q, 0)).2 += 1;
+        }
+    }
+    let edges: Vec<_> = uses.values().copied().collect();
+    assert!(
+        edges.iter().all(|e| e.2 <= 2),
+        "an edge used by three rings"
+    );
+    let mut crossings = 0;
+    for i in 0..edges.len() {
+        for j in i + 1..edges.len() {
+            let ((a, b, _), (c, d, _)) = (edges[i], edges[j]);
+            if a == c || a == d || b == c || b == d {
+                continue;
+            }
+            if orient(a, b, c) * orient(a, b, d) <= 0.0 && orient(c, d, a) * orient(c, d, b) <= 0.0
+            {
+                crossings += 1;
+            }
+        }
+    }
+    // A point just inside each polygon must lie in no other region.
+    let mut contained = 0;
+    for (ri, polys) in regions.iter().enumerate() {
+        for rings in polys {
+            let r = &rings[0];
+            let (a, b) = (r[0], r[1]);
+            let d = [b[0] - a[0], b[1] - a[1]];
+            let eps = 1e-6;
+            let p = [
+                0.5 * (a[0] + b[0]) - eps * d[1],
+                0.5 * (a[1] + b[1]) + eps * d[0],
+            ];
+            assert!(inside(rings, p));
+            for (rj, other) in regions.iter().enumerate() {
+                if rj != ri && other.iter().any(|o| inside(o, p)) {
+                    contained += 1;
+                }
+            }
+        }
+    }
+    // Loops of single-use edges (union–find over their end points).
+    let single: Vec<_> = edges.iter().filter(|e| e.2 == 1).collect();
+    let mut id = std::collections::HashMap::new();
+    let mut parent: Vec<usize> = Vec::new();
+    fn find(parent: &mut Vec<usize>, x: usize) -> usize {
+        let mut x = x;
+        while parent[x] != x {
+            parent[x] = parent[parent[x]];
+            x = parent[x];
+        }
+        x
+    }
+    for e in &single {
+        for p in [e.0, e.1] {
+            id.entry(key(p)).or_insert_with(|| {
+                parent.push(parent.len());
+                parent.len() - 1
+            });
+        }
+        let (x, y) = (id[&key(e.0)], id[&key(e.1)]);
+        let (rx, ry) = (find(&mut parent, x), find(&mut parent, y));
+        parent[rx] = ry;
+    }
+    let boundary_loops = (0..parent.len())
+        .filter(|&x| find(&mut parent, x) == x)
+        .count();
+    // Area enclosed by the union's boundary (oriented by the rings) minus the regions' areas.
+    let total: f64 = regions
+        .iter()
+        .flatten()
+        .flatten()
+        .map(|r| ring_area(r))
+        .sum();
+    let mut enclosed = 0.0;
+    for r in regions.iter().flatten().flatten() {
+        for i in 0..r.len() {
+            let (p, q) = (r[i], r[(i + 1) % r.len()]);
+            let (kp, kq) = (key(p), key(q));
+            let k = if kp < kq { (kp, kq) } else { (kq, kp) };
+            if uses[&k].2 == 1 {
+                enclosed += 0.5 * (p[0] * q[1] - p[1] * q[0]);
+            }
+        }
+    }
+    let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
+    let mut err: Vec<f64> = ratios.iter().map(|r| (r / mean - 1.0).abs()).collect();
+    err.sort_by(f64::total_cmp);
+    Figures {
+        median: err[err.len() / 2],
+        worst: err[err.len() - 1],
+        crossings,
+        contained,
+        boundary_loops,
+        gap_area: (enclosed - total).abs() / total,
+    }
+}
+
+/// Every position of a FeatureCollection mapped by `f`.
+fn map_positions(v: &Value, f: &dyn Fn([f64; 2]) -> [f64; 2]) -> Value {
+    match v {
+        Value::Array(a) if a.len() == 2 && a.iter().all(Value::is_number) => {
+            let p = f([a[0].as_f64().unwrap(), a[1].as_f64().unwrap()]);
+            json!([p[0], p[1]])
+        }
+        Value::Array(a) => Value::Array(a.iter().map(|x| map_positions(x, f)).collect()),
+        Value::Object(o) => Value::Object(
+            o.iter()
+                .map(|(k, x)| {
+                    let x = if k == "properties" {
+                        x.clone()
+                    } else {
+                        map_positions(x, f)
+                    };
+                    (k.clone(), x)
+                })
+                .collect(),
+        ),
+        other => other.clone(),
+    }
+}
+
+fn run_cartogram(s: &Scratch, input: &Value, extra: &[&str]) -> (Value, Value) {
+    s.write("in.geojson", input.to_string());
+    let mut args = vec![
+        "cartogram",
+        "in.geojson",
+        "--value",
+        "pop",
+        "--out",
+        "out.geojson",
+        "--svg",
+        "out.svg",
+        "--report",
+        "r.json",
+        "--quiet",
+    ];
+    args.extend_from_slice(extra);
+    s.ok(&args);
+    let out: Value = serde_json::from_str(&s.read("out.geojson")).unwrap();
+    let report: Value = serde_json::from_str(&s.read("r.json")).unwrap();
+    (out, report)
+}
+
+#[test]
+fn grid_with_a_hole_and_a_multipolygon_meets_the_acceptance_figures() {
+    let s = Scratch::new("carto_grid");
+    let input = grid(5);
+    let (out, report) = run_cartogram(&s, &input, &[]);
+    let f = figures(&input, &out);
+    eprintln!("{f:?}");
+    assert_eq!(f.crossings, 0, "{f:?}");
+    assert_eq!(f.contained, 0, "{f:?}");
+    // The outer boundary and the lake's shore, nothing else: borders are shared exactly.
+    assert_eq!(f.boundary_loops, 2, "{f:?}");
+    assert!(f.gap_area < 1e-9, "{f:?}");
+    assert!(f.median <= 0.05 && f.worst <= 0.15, "{f:?}");
+    assert_eq!(report["flipped_triangles"], 0);
+    assert!((report["ratio_error_worst"].as_f64().unwrap() - f.worst).abs() < 1e-9);
+    assert_eq!(report["regions"].as_array().unwrap().len(), 24);
+    let svg = s.read("out.svg");
+    assert_eq!(svg.matches("<path").count(), 24);
+}
+
+#[test]
+fn irregular_regions_with_vertices_shared_by_four_meet_the_same_figures() {
+    let s = Scratch::new("carto_irregular");
+    let input = irregular(9, 7);
+    let (out, _) = run_cartogram(&s, &input, &[]);
+    let f = figures(&input, &out);
+    eprintln!("{f:?}");
+    assert_eq!(
+        (f.crossings, f.contained, f.boundary_loops),
+        (0, 0, 1),
+        "{f:?}"
+    );
+    assert!(f.gap_area < 1e-9, "{f:?}");
+    assert!(f.median <= 0.05 && f.worst <= 0.15, "{f:?}");
+}
+
+#[test]
+fn sphere_grid_in_degrees_meets_the_figures_on_the_globe() {
+    let s = Scratch::new("carto_sphere");
+    // The acceptance grid as 10° cells from 20° W to 30° E and 5° N to 55° N.
+    let input = map_positions(&grid(5), &|p| [10.0 * p[0] - 20.0, 10.0 * p[1] + 5.0]);
+    let (out, report) = run_cartogram(&s, &input, &["--sphere"]);
+    assert_eq!(report["method"], "sdem");
+    assert_eq!(report["flipped_triangles"], 0);
+    // Lambert's cylindrical projection (longitude in radians, sine of latitude) keeps areas:
+    // the planar figures of the projected rings are those on the globe.
+    let lambert = |p: [f64; 2]| [p[0].to_radians(), p[1].to_radians().sin()];
+    let f = figures(
+        &map_positions(&input, &lambert),
+        &map_positions(&out, &lambert),
+    );
+    eprintln!("{f:?}");
+    assert_eq!(
+        (f.crossings, f.contained, f.boundary_loops),
+        (0, 0, 2),
+        "{f:?}"
+    );
+    assert!(f.gap_area < 1e-9, "{f:?}");
+    assert!(f.median <= 0.05 && f.worst <= 0.15, "{f:?}");
+    // Still where it was: every output position within 20° of the grid.
+    let text = s.read("out.geojson");
+    let back: Value = serde_json::from_str(&text).unwrap();
+    map_positions(&back, &|p| {
+        assert!(
+            (-40.0..=50.0).contains(&p[0]) && (-15.0..=75.0).contains(&p[1]),
+            "{p:?}"
+        );
+        p
+    });
+}
+
+#[test]
+fn refusals_exit_2_naming_the_feature() {
+    let s = Scratch::new("carto_refuse");
+    let base = grid(3);
+    let with = |k: usize, prop: Value| {
+        let mut v = base.clone();
+        v["features"][k]["properties"]["pop"] = prop;
+        v
+    };
+    let mut missing = base.clone();
+    missing["features"][2]["properties"]
+        .as_object_mut()
+        .unwrap()
+        .remove("pop");
+    let mut point = base.clone();
+    point["features"][1]["geometry"] = json!({"type": "Point", "coordinates": [0.5, 0.5]});
+    let mut bow = base.clone();
+    bow["features"][3]["geometry"] = json!({"type": "Polygon", "coordinates":
+        [ring(&[[1.0, 0.0], [2.0, 1.0], [2.0, 0.0], [1.0, 0.5]])]});
+    let mut overlap = base.clone();
+    overlap["features"][4]["geometry"] =
+        json!({"type": "Polygon", "coordinates": [ring(&square(0.5, 0.5, 1.0))]});
+    let cases: Vec<(Value, &str)> = vec![
+        (
+            with(1, json!(0)),
+            "feature 1 (name 'r0_1'): its value 'pop' = 0 is not positive",
+        ),
+        (with(1, json!(-3)), "is not positive"),
+        (
+            with(2, json!("many")),
+            "feature 2 (name 'r0_2'): its value 'pop' = \"many\" is not a number",
+        ),
+        (with(2, json!("NaN")), "is not finite"),
+        (missing, "feature 2 (name 'r0_2'): has no value 'pop'"),
+        (point, "feature 1 (name 'r0_1'): its geometry is a Point"),
+        (bow, "feature 3 (name 'r1_0'): its boundary crosses itself"),
+        (overlap, "overlaps"),
+        (
+            json!({"type": "Feature", "properties": {}, "geometry": null}),
+            "not a FeatureCollection",
+        ),
+    ];
+    for (input, want) in cases {
+        s.write("bad.geojson", input.to_string());
+        let out = s.run(&[
+            "cartogram",
+            "bad.geojson",
+            "--value",
+            "pop",
+            "--out",
+            "o.geojson",
+        ]);
+        out.assert_code(2);
+        let line = out.stderr.trim();
+        assert!(
+            line.starts_with("error: ") && line.contains(want),
+            "{line} / {want}"
+        );
+        assert_eq!(line.lines().count(), 1, "{line}");
+    }
+    // Latitudes beyond the pole with --sphere.
+    let mut polar = base.clone();
+    polar["features"][0]["geometry"] = json!({"type": "Polygon", "coordinates": [ring(&[[0.0, 80.0], [10.0, 80.0], [10.0, 95.0]])]});
+    s.write("polar.geojson", polar.to_string());
+    let out = s.run(&[
+        "cartogram",
+        "polar.geojson",
+        "--value",
+        "pop",
+        "--out",
+        "o.geojson",
+        "--sphere",
+    ]);
+    out.assert_code(2);
+    assert!(
+        out.stderr.contains("latitude 95 is outside [-90, 90]"),
+        "{}",
+        out.stderr
+    );
+}

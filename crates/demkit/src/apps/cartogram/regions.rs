@@ -1,0 +1,545 @@
+//! The regions of a cartogram as one planar straight-line graph: every vertex stored once
+//! (positions closer than a tolerance are merged, so a border shared by two regions is made of
+//! the same vertices and edges on both sides), a vertex of one region lying on an edge of
+//! another splits that edge (no T-junctions), and no two edges cross.
+
+use super::Polygon;
+use super::geojson::RawRegion;
+use crate::{Error, Result};
+use std::collections::HashMap;
+
+/// One feature's geometry as rings of indices into [`RegionSet::points`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Region {
+    /// How messages name the feature (see [`super::geojson::feature_label`]).
+    pub label: String,
+    /// The region's value (> 0).
+    pub value: f64,
+    /// Whether the feature is a MultiPolygon.
+    pub multi: bool,
+    /// Polygons → rings (exterior first) → vertex indices, without closing vertex.
+    pub polygons: Vec<Vec<Vec<usize>>>,
+}
+
+/// All regions over one shared vertex list.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegionSet {
+    /// The distinct vertices.
+    pub points: Vec<[f64; 2]>,
+    /// The regions, in feature order.
+    pub regions: Vec<Region>,
+}
+
+/// Twice the signed area of a closed ring given without closing point, halved: positive when
+/// counter-clockwise (shoelace formula).
+pub fn ring_area(ring: &[[f64; 2]]) -> f64 {
+    let n = ring.len();
+    let mut s = 0.0;
+    for i in 0..n {
+        let (p, q) = (ring[i], ring[(i + 1) % n]);
+        s += p[0] * q[1] - p[1] * q[0];
+    }
+    0.5 * s
+}
+
+/// The area of a polygon (exterior minus holes, whatever the rings' orientations).
+pub fn polygon_area(rings: &[Vec<[f64; 2]>]) -> f64 {
+    rings
+        .iter()
+        .enumerate()
+        .map(|(j, r)| {
+            if j == 0 {
+                ring_area(r).abs()
+            } else {
+                -ring_area(r).abs()
+            }
+        })
+        .sum()
+}
+
+/// Relative tolerance (of the bounding box diagonal) below which two positions are the same
+/// vertex, or a vertex lies on an edge.
+const SNAP: f64 = 1e-9;
+
+impl RegionSet {
+    /// Builds the shared vertex graph of `raw`; `path` names the file in messages.
+    ///
+    /// Errors ([`Error::Format`], naming the feature and ring): a ring with fewer than three
+    /// distinct points or zero area, edges that cross (within one region: the region's
+    /// boundary crosses itself; between two: the regions overlap).
+    pub fn build(raw: &[RawRegion], path: &str) -> Result<RegionSet> {
+        let err = |msg: String| Error::Format {
+            path: path.to_string(),
+            msg,
+        };
+        let (lo, hi) = bbox(
+            raw.iter()
+                .flat_map(|r| r.polygons.iter().flatten().flatten().copied()),
+        );
+        let diag = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt();
+        if !(diag > 0.0 && diag.is_finite()) {
+            return Err(err("the regions have no extent".into()));
+        }
+        let tol = SNAP * diag;
+        let mut snap = Snapper::new(tol);
+        let mut regions = Vec::with_capacity(raw.len());
+        for r in raw {
+            let mut polygons = Vec::with_capacity(r.polygons.len());
+            for (k, rings) in r.polygons.iter().enumerate() {
+                let mut out = Vec::with_capacity(rings.len());
+                for (j, ring) in rings.iter().enumerate() {
+                    let mut idx: Vec<usize> = Vec::with_capacity(ring.len());
+                    for &p in ring {
+                        let v = snap.insert(p);
+                        if idx.last() != Some(&v) {
+                            idx.push(v);
+                        }
+                    }
+                    while idx.len() > 1 && idx.first() == idx.last() {
+                        idx.pop();
+                    }
+                    let pts: Vec<[f64; 2]> = idx.iter().map(|&v| snap.points[v]).collect();
+                    let mut distinct = idx.clone();
+                    distinct.sort_unstable();
+                    distinct.dedup();
+                    if distinct.len() < 3 {
+                        return Err(err(format!(
+                            "{}: ring {j} of polygon {k} has fewer than 3 distinct points",
+                            r.label
+                        )));
+                    }
+                    if ring_area(&pts).abs() <= tol * diag {
+                        return Err(err(format!(
+                            "{}: ring {j} of polygon {k} has zero area",
+                            r.label
+                        )));
+                    }
+                    out.push(idx);
+                }
+                polygons.push(out);
+            }
+            regions.push(Region {
+                label: r.label.clone(),
+                value: r.value,
+                multi: r.multi,
+                polygons,
+            });
+        }
+        let mut set = RegionSet {
+            points: snap.points,
+            regions,
+        };
+        set.split_t_junctions(tol);
+        set.check_crossings(path)?;
+        Ok(set)
+    }
+
+    /// The distinct undirected edges of all rings, each with the regions using it.
+    pub fn edges(&self) -> Vec<([usize; 2], Vec<usize>)> {
+        let mut map: HashMap<[usize; 2], Vec<usize>> = HashMap::new();
+        let mut order = Vec::new();
+        for (r, region) in self.regions.iter().enumerate() {
+            for ring in region.polygons.iter().flatten() {
+                for i in 0..ring.len() {
+                    let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
+                    let key = [a.min(b), a.max(b)];
+                    let owners = map.entry(key).or_insert_with(|| {
+                        order.push(key);
+                        Vec::new()
+                    });
+                    if !owners.contains(&r) {
+                        owners.push(r);
+                    }
+                }
+            }
+        }
+        order
+            .into_iter()
+            .map(|k| {
+                let o = map.remove(&k).unwrap_or_default();
+                (k, o)
+            })
+            .collect()
+    }
+
+    /// The coordinates of every region's rings.
+    pub fn coordinates(&self) -> Vec<Vec<Polygon>> {
+        self.regions
+            .iter()
+            .map(|r| {
+                r.polygons
+                    .iter()
+                    .map(|p| {
+                        p.iter()
+                            .map(|ring| ring.iter().map(|&v| self.points[v]).collect())
+                            .collect()
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Inserts into every edge the vertices lying on it (within `tol`), in order.
+    fn split_t_junctions(&mut self, tol: f64) {
+        let edges = self.edges();
+        let grid = Grid::new(&self.points, self.points.len());
+        let mut inner: HashMap<[usize; 2], Vec<usize>> = HashMap::new();
+        for ([a, b], _) in &edges {
+            let (pa, pb) = (self.points[*a], self.points[*b]);
+            let d = [pb[0] - pa[0], pb[1] - pa[1]];
+            let len2 = d[0] * d[0] + d[1] * d[1];
+            let mut on: Vec<(f64, usize)> = Vec::new();
+            grid.visit_box(min2(pa, pb, -tol), max2(pa, pb, tol), |v| {
+                if v == *a || v == *b {
+                    return;
+                }
+                let p = self.points[v];
+                let w = [p[0] - pa[0], p[1] - pa[1]];
+                let t = (w[0] * d[0] + w[1] * d[1]) / len2;
+                let cross = w[0] * d[1] - w[1] * d[0];
+                if t > 0.0 && t < 1.0 && cross.abs() <= tol * len2.sqrt() {
+                    on.push((t, v));
+                }
+            });
+            if !on.is_empty() {
+                on.sort_by(|x, y| x.0.total_cmp(&y.0));
+                inner.insert([*a, *b], on.into_iter().map(|(_, v)| v).collect());
+            }
+        }
+        if inner.is_empty() {
+            return;
+        }
+        for ring in self
+            .regions
+            .iter_mut()
+            .flat_map(|r| r.polygons.iter_mut().flatten())
+        {
+            let mut out = Vec::with_capacity(ring.len());
+            for i in 0..ring.len() {
+                let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
+                out.push(a);
+                if let Some(mid) = inner.get(&[a.min(b), a.max(b)]) {
+                    if a < b {
+                        out.extend(mid.iter().copied());
+                    } else {
+                        out.extend(mid.iter().rev().copied());
+                    }
+                }
+            }
+            *ring = out;
+        }
+    }
+
+    /// Refuses edges that cross each other properly (they share no endpoint).
+    fn check_crossings(&self, path: &str) -> Result<()> {
+        let edges = self.edges();
+        let pts = &self.points;
+        let mids: Vec<[f64; 2]> = edges
+            .iter()
+            .map(|([a, b], _)| {
+                [
+                    0.5 * (pts[*a][0] + pts[*b][0]),
+                    0.5 * (pts[*a][1] + pts[*b][1]),
+                ]
+            })
+            .collect();
+        let grid = SegmentGrid::new(pts, &edges);
+        for (i, ([a, b], owners)) in edges.iter().enumerate() {
+            let (pa, pb) = (pts[*a], pts[*b]);
+            let mut found = None;
+            grid.visit_box(min2(pa, pb, 0.0), max2(pa, pb, 0.0), |j| {
+                if j <= i || found.is_some() {
+                    return;
+                }
+                let ([c, d], _) = &edges[j];
+                if a == c || a == d || b == c || b == d {
+                    return;
+                }
+                let (pc, pd) = (pts[*c], pts[*d]);
+                let o1 = orient(pa, pb, pc);
+                let o2 = orient(pa, pb, pd);
+                let o3 = orient(pc, pd, pa);
+                let o4 = orient(pc, pd, pb);
+                if o1 * o2 < 0.0 && o3 * o4 < 0.0 {
+                    found = Some(j);
+                }
+            });
+            if let Some(j) = found {
+                let other = &edges[j].1;
+                let at = mids[i];
+                let r1 = owners[0];
+                let msg = match other.iter().find(|&&r| r != r1) {
+                    Some(&r2) if !owners.contains(&r2) => format!(
+                        "{} overlaps {}: their edges cross near ({}, {})",
+                        self.regions[r1].label, self.regions[r2].label, at[0], at[1]
+                    ),
+                    _ => format!(
+                        "{}: its boundary crosses itself near ({}, {})",
+                        self.regions[r1].label, at[0], at[1]
+                    ),
+                };
+                return Err(Error::Format {
+                    path: path.to_string(),
+                    msg,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Orientation of `c` with respect to the line `a → b` (positive: left).
+pub(crate) fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+}
+
+pub(super) fn min2(a: [f64; 2], b: [f64; 2], pad: f64) -> [f64; 2] {
+    [a[0].min(b[0]) + pad, a[1].min(b[1]) + pad]
+}
+
+pub(super) fn max2(a: [f64; 2], b: [f64; 2], pad: f64) -> [f64; 2] {
+    [a[0].max(b[0]) + pad, a[1].max(b[1]) + pad]
+}
+
+/// Bounding box of points.
+pub(crate) fn bbox(points: impl Iterator<Item = [f64; 2]>) -> ([f64; 2], [f64; 2]) {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (lo, hi)
+}
+
+/// Merges positions closer than a tolerance (hash of cells of the tolerance's size).
+struct Snapper {
+    tol: f64,
+    cells: HashMap<(i64, i64), Vec<usize>>,
+    points: Vec<[f64; 2]>,
+}
+
+impl Snapper {
+    fn new(tol: f64) -> Self {
+        Self {
+            tol,
+            cells: HashMap::new(),
+            points: Vec::new(),
+        }
+    }
+
+    /// The index of `p`, or of a stored point within the tolerance of it.
+    fn insert(&mut self, p: [f64; 2]) -> usize {
+        let c = (
+            (p[0] / self.tol).floor() as i64,
+            (p[1] / self.tol).floor() as i64,
+        );
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                if let Some(list) = self.cells.get(&(c.0 + dx, c.1 + dy)) {
+                    for &v in list {
+                        let q = self.points[v];
+                        if (q[0] - p[0]).abs() <= self.tol && (q[1] - p[1]).abs() <= self.tol {
+                            return v;
+                        }
+                    }
+                }
+            }
+        }
+        self.points.push(p);
+        let v = self.points.len() - 1;
+        self.cells.entry(c).or_default().push(v);
+        v
+    }
+}
+
+/// A uniform grid of buckets over a bounding box.
+pub(super) struct Buckets {
+    lo: [f64; 2],
+    cell: [f64; 2],
+    n: usize,
+    items: Vec<Vec<usize>>,
+}
+
+impl Buckets {
+    pub(super) fn new(lo: [f64; 2], hi: [f64; 2], count: usize) -> Self {
+        let n = ((count as f64).sqrt().ceil() as usize).clamp(1, 1024);
+        let cell = [
+            ((hi[0] - lo[0]) / n as f64).max(f64::MIN_POSITIVE),
+            ((hi[1] - lo[1]) / n as f64).max(f64::MIN_POSITIVE),
+        ];
+        Self {
+            lo,
+            cell,
+            n,
+            items: vec![Vec::new(); n * n],
+        }
+    }
+
+    fn range(&self, lo: [f64; 2], hi: [f64; 2]) -> ([usize; 2], [usize; 2]) {
+        let idx = |x: f64, k: usize| {
+            (((x - self.lo[k]) / self.cell[k]).floor().max(0.0) as usize).min(self.n - 1)
+        };
+        (
+            [idx(lo[0], 0), idx(lo[1], 1)],
+            [idx(hi[0], 0), idx(hi[1], 1)],
+        )
+    }
+
+    pub(super) fn add_box(&mut self, lo: [f64; 2], hi: [f64; 2], item: usize) {
+        let (a, b) = self.range(lo, hi);
+        for i in a[0]..=b[0] {
+            for j in a[1]..=b[1] {
+                self.items[i * self.n + j].push(item);
+            }
+        }
+    }
+
+    /// Every item stored in a cell meeting the box (an item may come more than once).
+    pub(super) fn visit(&self, lo: [f64; 2], hi: [f64; 2], mut f: impl FnMut(usize)) {
+        let (a, b) = self.range(lo, hi);
+        for i in a[0]..=b[0] {
+            for j in a[1]..=b[1] {
+                for &v in &self.items[i * self.n + j] {
+                    f(v);
+                }
+            }
+        }
+    }
+}
+
+/// Points bucketed on a grid.
+struct Grid(Buckets);
+
+impl Grid {
+    fn new(points: &[[f64; 2]], count: usize) -> Self {
+        let (lo, hi) = bbox(points.iter().copied());
+        let mut b = Buckets::new(lo, hi, count);
+        for (v, &p) in points.iter().enumerate() {
+            b.add_box(p, p, v);
+        }
+        Grid(b)
+    }
+
+    fn visit_box(&self, lo: [f64; 2], hi: [f64; 2], f: impl FnMut(usize)) {
+        self.0.visit(lo, hi, f)
+    }
+}
+
+/// Segments bucketed on a grid by their bounding boxes; a visit reports each segment once.
+struct SegmentGrid(Buckets, usize);
+
+impl SegmentGrid {
+    fn new(points: &[[f64; 2]], edges: &[([usize; 2], Vec<usize>)]) -> Self {
+        let (lo, hi) = bbox(points.iter().copied());
+        let mut b = Buckets::new(lo, hi, edges.len());
+        for (i, ([u, v], _)) in edges.iter().enumerate() {
+            b.add_box(
+                min2(points[*u], points[*v], 0.0),
+                max2(points[*u], points[*v], 0.0),
+                i,
+            );
+        }
+        SegmentGrid(b, edges.len())
+    }
+
+    fn visit_box(&self, lo: [f64; 2], hi: [f64; 2], mut f: impl FnMut(usize)) {
+        let mut seen = std::collections::HashSet::new();
+        self.0.visit(lo, hi, |i| {
+            if seen.insert(i) {
+                f(i)
+            }
+        });
+        let _ = self.1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn raw(label: &str, polygons: Vec<Polygon>) -> RawRegion {
+        RawRegion {
+            label: label.into(),
+            value: 1.0,
+            multi: polygons.len() > 1,
+            polygons,
+        }
+    }
+
+    fn square(x: f64, y: f64, s: f64) -> Vec<[f64; 2]> {
+        vec![[x, y], [x + s, y], [x + s, y + s], [x, y + s], [x, y]]
+    }
+
+    #[test]
+    fn shared_borders_share_vertices_and_t_junctions_are_split() {
+        // A 2×1 block on the left of two unit squares: its right edge (2 units long) carries
+        // the squares' common corner (1, 1) as a T-junction.
+        let left = vec![vec![
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+            [0.0, 0.0],
+        ]];
+        let a = vec![square(1.0, 0.0, 1.0)];
+        let b = vec![square(1.0, 1.0, 1.0)];
+        let set = RegionSet::build(
+            &[raw("L", vec![left]), raw("A", vec![a]), raw("B", vec![b])],
+            "t",
+        )
+        .unwrap();
+        // Distinct positions only: 4 (left) + 2 + 2 (the squares' right corners) + (1,1).
+        assert_eq!(set.points.len(), 8);
+        assert_eq!(
+            set.regions[0].polygons[0][0].len(),
+            5,
+            "(1,1) inserted in the left ring"
+        );
+        let edges = set.edges();
+        let shared = edges.iter().filter(|(_, o)| o.len() == 2).count();
+        assert_eq!(shared, 3);
+        let coords = set.coordinates();
+        let total: f64 = coords.iter().flatten().map(|p| polygon_area(p)).sum();
+        assert!((total - 4.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn crossings_and_degenerate_rings_are_refused() {
+        let bow = vec![vec![[0.0, 0.0], [2.0, 2.0], [2.0, 0.0], [0.0, 1.0]]];
+        let e = RegionSet::build(&[raw("feature 0", vec![bow])], "t").unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("feature 0: its boundary crosses itself"),
+            "{e}"
+        );
+        let a = vec![square(0.0, 0.0, 1.0)];
+        let b = vec![square(0.5, 0.5, 1.0)];
+        let e = RegionSet::build(&[raw("feature 0", vec![a]), raw("feature 1", vec![b])], "t")
+            .unwrap_err();
+        assert!(
+            e.to_string().contains("feature 0 overlaps feature 1"),
+            "{e}"
+        );
+        let line = vec![vec![[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [0.0, 0.0]]];
+        let e = RegionSet::build(&[raw("feature 0", vec![line])], "t").unwrap_err();
+        assert!(e.to_string().contains("zero area"), "{e}");
+        let two = vec![vec![[0.0, 0.0], [1.0, 0.0], [0.0, 0.0]]];
+        let e = RegionSet::build(&[raw("feature 0", vec![two])], "t").unwrap_err();
+        assert!(
+            e.to_string().contains("fewer than 3 distinct points"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn polygon_area_subtracts_holes_whatever_their_orientation() {
+        let outer = square(0.0, 0.0, 3.0)[..4].to_vec();
+        let mut hole = square(1.0, 1.0, 1.0)[..4].to_vec();
+        assert_eq!(polygon_area(&[outer.clone(), hole.clone()]), 8.0);
+        hole.reverse();
+        assert_eq!(polygon_area(&[outer, hole]), 8.0);
+    }
+}
