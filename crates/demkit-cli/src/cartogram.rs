@@ -49,6 +49,14 @@ struct MeshSummary {
 /// Runs the cartogram command; returns the exit code (0, or 3 when not converged).
 pub fn run(a: &CartogramArgs) -> Result<u8, Failure> {
     let t0 = Instant::now();
+    crate::require_extension(
+        &a.out,
+        &["geojson", "json"],
+        "the cartogram is written as .geojson",
+    )?;
+    if let Some(svg) = &a.svg {
+        crate::require_extension(svg, &["svg"], "--svg writes .svg files")?;
+    }
     if a.max_iter == Some(0) {
         return Err(Failure::input("--max-iter must be at least 1"));
     }
@@ -75,11 +83,7 @@ pub fn run(a: &CartogramArgs) -> Result<u8, Failure> {
     let converged = c.run.stop_reason != demkit::methods::StopReason::MaxIter;
     if let Some(path) = &a.report {
         let report = report(&c, a.sphere, converged, t0.elapsed().as_secs_f64());
-        let text = serde_json::to_string_pretty(&report).map_err(|e| Failure {
-            code: 1,
-            message: e.to_string(),
-        })?;
-        write(path, text + "\n")?;
+        crate::report::write_json(path, &report)?;
     }
     if !a.quiet {
         for n in &c.run.notes {

@@ -52,6 +52,27 @@ impl Failure {
     }
 }
 
+/// Refuses (exit 2) a path to be written whose extension is none of `allowed` (compared
+/// without case); `what` says what is written there, e.g. "pictures are written as .png".
+pub fn require_extension(
+    path: &std::path::Path,
+    allowed: &[&str],
+    what: &str,
+) -> Result<(), Failure> {
+    let ok = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| allowed.iter().any(|a| e.eq_ignore_ascii_case(a)));
+    if ok {
+        Ok(())
+    } else {
+        Err(Failure::input(format!(
+            "cannot write '{}': {what}",
+            path.display()
+        )))
+    }
+}
+
 fn main() -> ExitCode {
     // A bug must never show a panic trace: report it on one line and exit with 1.
     std::panic::set_hook(Box::new(|info| {

@@ -18,17 +18,11 @@ use std::time::Instant;
 
 /// Only .obj and .ply are written.
 pub fn check_output_extension(out: &Path) -> Result<(), Failure> {
-    let ext = out
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(|e| e.to_ascii_lowercase());
-    match ext.as_deref() {
-        Some("obj") | Some("ply") => Ok(()),
-        _ => Err(Failure::input(format!(
-            "cannot write '{}': output meshes must end in .obj or .ply",
-            out.display()
-        ))),
-    }
+    crate::require_extension(
+        out,
+        &["obj", "ply"],
+        "output meshes must end in .obj or .ply",
+    )
 }
 
 /// A computed map with what it was computed from.
@@ -315,18 +309,7 @@ pub fn resolve_method(a: &MethodArgs, boundaries: usize, genus: i64) -> Result<M
 
 /// `--uv-out` writes .obj only (the format with per-corner texture coordinates).
 fn check_uv_extension(path: &Path) -> Result<(), Failure> {
-    let obj = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
-    if obj {
-        Ok(())
-    } else {
-        Err(Failure::input(format!(
-            "cannot write '{}': --uv-out writes .obj files",
-            path.display()
-        )))
-    }
+    crate::require_extension(path, &["obj"], "--uv-out writes .obj files")
 }
 
 /// `--torus R:r`: the target torus of tdem.

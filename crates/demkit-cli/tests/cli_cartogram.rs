@@ -524,4 +524,30 @@ fn refusals_exit_2_naming_the_feature() {
         "{}",
         out.stderr
     );
+    // Output names that would not hold what is written there.
+    s.write("good.geojson", base.to_string());
+    let e = s
+        .run(&[
+            "cartogram",
+            "good.geojson",
+            "--value",
+            "pop",
+            "--out",
+            "o.obj",
+        ])
+        .input_error();
+    assert!(e.contains(".geojson"), "{e}");
+    let e = s
+        .run(&[
+            "cartogram",
+            "good.geojson",
+            "--value",
+            "pop",
+            "--out",
+            "o.geojson",
+            "--svg",
+            "o.png",
+        ])
+        .input_error();
+    assert!(e.contains(".svg"), "{e}");
 }

@@ -29,18 +29,7 @@ const PLAIN: Rgb = [176, 190, 212];
 
 /// Pictures are written as .png only.
 pub fn check_png_extension(path: &Path) -> Result<(), Failure> {
-    let png = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-    if png {
-        Ok(())
-    } else {
-        Err(Failure::input(format!(
-            "cannot write '{}': pictures are written as .png",
-            path.display()
-        )))
-    }
+    crate::require_extension(path, &["png"], "pictures are written as .png")
 }
 
 /// Checks `map`'s picture options before the map is computed: .png names, `--view`, `--size`.
