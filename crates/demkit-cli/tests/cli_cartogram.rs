@@ -223,7 +223,8 @@ fn figures(input: &Value, output: &Value) -> Figures {
         regions.push(pb);
     }
     // Edges (undirected, by exact coordinates) and how many ring sides use them.
-    let mut uses: std::collections::HashMap<((u64, u64), (u64, u64)), ([f64; 2], [f64; 2], usize)> =
+    type EdgeKey = ((u64, u64), (u64, u64));
+    let mut uses: std::collections::HashMap<EdgeKey, ([f64; 2], [f64; 2], usize)> =
         Default::default();
     for r in regions.iter().flatten().flatten() {
         for i in 0..r.len() {
@@ -275,7 +276,7 @@ fn figures(input: &Value, output: &Value) -> Figures {
     let single: Vec<_> = edges.iter().filter(|e| e.2 == 1).collect();
     let mut id = std::collections::HashMap::new();
     let mut parent: Vec<usize> = Vec::new();
-    fn find(parent: &mut Vec<usize>, x: usize) -> usize {
+    fn find(parent: &mut [usize], x: usize) -> usize {
         let mut x = x;
         while parent[x] != x {
             parent[x] = parent[parent[x]];
