@@ -124,10 +124,16 @@ pub fn faces_inside(
                 let p = points[v as usize];
                 [s[0] + p[0] / 3.0, s[1] + p[1] / 3.0]
             });
-            loops.iter().filter(|l| crosses_odd(points, l, c)).count() % 2 == 1
+            inside_loops(points, loops, c)
         })
         .copied()
         .collect()
+}
+
+/// True when `c` lies inside the region bounded by `loops` (closed polygons of point indices)
+/// by the even–odd rule.
+pub fn inside_loops(points: &[[f64; 2]], loops: &[Vec<usize>], c: [f64; 2]) -> bool {
+    loops.iter().filter(|l| crosses_odd(points, l, c)).count() % 2 == 1
 }
 
 /// True when a ray from `c` towards +x crosses the closed polygon `lp` an odd number of times.
@@ -147,16 +153,33 @@ fn crosses_odd(points: &[[f64; 2]], lp: &[usize], c: [f64; 2]) -> bool {
 }
 
 /// The Delaunay triangulation of points on the unit sphere, i.e. their convex hull, with faces
-/// oriented outward ((b − a) × (c − a) · (a + b + c) > 0).
-///
-/// The points are seen from one of them (rotated to the north pole) by stereographic
-/// projection, which maps circles on the sphere to circles in the plane, so the planar
-/// Delaunay triangulation of the others is the part of the spherical one away from that point;
-/// the convex hull of the projection is then closed by a fan of triangles at the pole point.
+/// oriented outward ((b − a) × (c − a) · (a + b + c) > 0): [`spherical_constrained_delaunay`]
+/// without segments, seen from the first point.
 ///
 /// Errors ([`Error::InvalidMesh`]): fewer than 4 points, a point that is not a finite unit
 /// vector (within 1e-6), two equal points, all points on one circle.
 pub fn spherical_delaunay(points: &[[f64; 3]]) -> Result<Vec<[u32; 3]>> {
+    spherical_constrained_delaunay(points, &[], 0)
+}
+
+/// A triangulation of points on the unit sphere keeping every segment `[i, j]` as an edge,
+/// faces oriented outward; without segments it is the Delaunay triangulation (the convex hull).
+///
+/// The points are seen from `points[pole]` (rotated to the north pole) by stereographic
+/// projection, which maps circles on the sphere to circles in the plane, so the planar
+/// constrained Delaunay triangulation of the others is the spherical one away from the pole;
+/// the boundary of the projection is then closed by a fan of triangles at the pole. The pole
+/// must not be an end of a segment, and a segment should be short enough for its projection
+/// to follow the arc between its ends (split long arcs first).
+///
+/// Errors ([`Error::InvalidMesh`]): fewer than 4 points, a point that is not a finite unit
+/// vector (within 1e-6), two equal points, all points on one circle, a segment at the pole or
+/// crossing another.
+pub fn spherical_constrained_delaunay(
+    points: &[[f64; 3]],
+    segments: &[[usize; 2]],
+    pole: usize,
+) -> Result<Vec<[u32; 3]>> {
     if points.len() < 4 {
         return Err(Error::InvalidMesh(format!(
             "a spherical triangulation needs at least 4 points, got {}",
@@ -171,7 +194,14 @@ pub fn spherical_delaunay(points: &[[f64; 3]]) -> Result<Vec<[u32; 3]>> {
             )));
         }
     }
-    let pole = 0usize;
+    if pole >= points.len() || segments.iter().flatten().any(|&v| v == pole) {
+        return Err(Error::InvalidMesh(format!(
+            "the projection pole {pole} must be a point that no segment ends at"
+        )));
+    }
+    // Planar index k is point k, or k + 1 from the pole on.
+    let global = |k: usize| (if k < pole { k } else { k + 1 }) as u32;
+    let local = |v: usize| if v < pole { v } else { v - 1 };
     let rot = rotation_to_north(points[pole]);
     let planar: Vec<[f64; 2]> = points
         .iter()
@@ -182,25 +212,43 @@ pub fn spherical_delaunay(points: &[[f64; 3]]) -> Result<Vec<[u32; 3]>> {
             [w[0], w[1]]
         })
         .collect();
-    let cdt = build(&planar, &[])?;
-    // Planar index k is point k + 1 (the pole is point 0).
-    let global = |k: usize| (k + 1) as u32;
-    let mut faces: Vec<[u32; 3]> = cdt
-        .inner_faces()
-        .map(|f| f.vertices().map(|v| global(v.fix().index())))
-        .collect();
-    for e in cdt.convex_hull() {
-        let (a, b) = (e.from().fix().index(), e.to().fix().index());
-        faces.push([global(a), global(b), pole as u32]);
-    }
-    if cdt.num_inner_faces() == 0 {
+    let planar_segments: Vec<[usize; 2]> = segments.iter().map(|s| s.map(local)).collect();
+    let t = constrained_delaunay(&planar, &planar_segments)?;
+    if t.faces.is_empty() {
         return Err(Error::InvalidMesh(
             "the points on the sphere all lie on one circle".into(),
         ));
     }
-    for f in &mut faces {
-        let [a, b, c] = f.map(|v| points[v as usize]);
-        if spherical_orientation(a, b, c) < 0.0 {
+    let mut faces: Vec<[u32; 3]> = t
+        .faces
+        .iter()
+        .map(|f| f.map(|k| global(k as usize)))
+        .collect();
+    // The projection's boundary: directed edges of its (counter-clockwise) faces without their
+    // reverse. The outer side of each, closed at the pole, is the counter-clockwise (b, a, pole).
+    let mut directed = std::collections::HashSet::new();
+    for f in &faces {
+        for k in 0..3 {
+            directed.insert((f[k], f[(k + 1) % 3]));
+        }
+    }
+    let mut fan: Vec<[u32; 3]> = directed
+        .iter()
+        .filter(|&&(a, b)| !directed.contains(&(b, a)))
+        .map(|&(a, b)| [b, a, pole as u32])
+        .collect();
+    fan.sort_unstable();
+    faces.extend(fan);
+    // Stereographic projection keeps or reverses every orientation at once: decide by the sum.
+    let sum: f64 = faces
+        .iter()
+        .map(|f| {
+            let [a, b, c] = f.map(|v| points[v as usize]);
+            spherical_orientation(a, b, c)
+        })
+        .sum();
+    if sum < 0.0 {
+        for f in &mut faces {
             f.swap(1, 2);
         }
     }
@@ -407,6 +455,34 @@ mod tests {
         let f = spherical_delaunay(&p).unwrap();
         assert_eq!(f.len(), 2 * n - 4);
         check_closed_outward(&p, &f);
+    }
+
+    #[test]
+    fn a_segment_on_the_sphere_becomes_an_edge() {
+        let n = 400;
+        let mut p: Vec<[f64; 3]> = (0..n)
+            .map(|i| {
+                let z = 1.0 - (2.0 * i as f64 + 1.0) / n as f64;
+                let r = (1.0 - z * z).sqrt();
+                let a = i as f64 * std::f64::consts::PI * (3.0 - 5f64.sqrt());
+                [r * a.cos(), r * a.sin(), z]
+            })
+            .collect();
+        // Two points on the equator a short arc apart, joined by a segment, and the pole the
+        // triangulation is seen from: the north pole, added last.
+        let e = |t: f64| [t.cos(), t.sin(), 0.0];
+        p.push(e(0.0));
+        p.push(e(0.25));
+        p.push([0.0, 0.0, 1.0]);
+        let f = spherical_constrained_delaunay(&p, &[[n, n + 1]], n + 2).unwrap();
+        check_closed_outward(&p, &f);
+        assert!(f.iter().any(|t| {
+            (0..3).any(|k| {
+                let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
+                (a, b) == (n, n + 1) || (a, b) == (n + 1, n)
+            })
+        }));
+        assert!(spherical_constrained_delaunay(&p, &[[n, n + 2]], n + 2).is_err());
     }
 
     /// Euler characteristic 2, every edge in exactly two faces with opposite directions, and

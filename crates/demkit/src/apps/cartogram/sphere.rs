@@ -18,11 +18,9 @@ use super::regions::RegionSet;
 use super::triangulate::assign_faces;
 use super::{Cartogram, Config, MIN_CORRECTION, Polygon, Run, figures};
 use crate::geometry::face_areas;
-use crate::geometry::sphere::{
-    mat_vec, normalize, project_from_north, rotation_to_north, spherical_orientation,
-};
+use crate::geometry::sphere::{mat_vec, normalize, project_from_north, rotation_to_north};
 use crate::init::spherical_conformal::count_spherical_flips;
-use crate::mesh::triangulate::constrained_delaunay;
+use crate::mesh::triangulate::{inside_loops, spherical_constrained_delaunay};
 use crate::methods::{ProgressFn, StopReason, sdem};
 use crate::{Error, Result, TriMesh};
 use std::collections::HashMap;
@@ -187,7 +185,7 @@ fn build(set: &RegionSet, target_faces: usize, path: &str) -> Result<GlobeMesh> 
             !set.regions.iter().any(|r| {
                 r.polygons
                     .iter()
-                    .any(|rings| lon_lat_inside(&set.points, rings, ll))
+                    .any(|rings| inside_loops(&set.points, rings, ll))
             })
         })
         .ok_or_else(|| fmt("the regions cover the whole globe: no sea is left".into()))?;
@@ -207,8 +205,8 @@ fn build(set: &RegionSet, target_faces: usize, path: &str) -> Result<GlobeMesh> 
         .collect();
     points.extend(kept);
 
-    // The triangulation in the stereographic projection from the far point; its cap closed by
-    // a fan around the far point (the last vertex).
+    // The triangulation seen from the far point (the last vertex): in its stereographic
+    // projection, the cap closed by a fan around it. Regions are assigned in that projection.
     let rot = rotation_to_north(far);
     let plane: Vec<[f64; 2]> = points
         .iter()
@@ -217,46 +215,9 @@ fn build(set: &RegionSet, target_faces: usize, path: &str) -> Result<GlobeMesh> 
             [w[0], w[1]]
         })
         .collect();
-    let t = constrained_delaunay(&plane, &segments)?;
-    let far_index = points.len() as u32;
+    let far_index = points.len();
     points.push(far);
-    let mut faces = t.faces;
-    let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
-    for f in &faces {
-        for k in 0..3 {
-            *directed.entry((f[k], f[(k + 1) % 3])).or_insert(0) += 1;
-        }
-    }
-    let hull: Vec<(u32, u32)> = directed
-        .keys()
-        .filter(|&&(a, b)| !directed.contains_key(&(b, a)))
-        .copied()
-        .collect();
-    let n_plane_faces = faces.len();
-    for (a, b) in hull {
-        faces.push([a, b, far_index]);
-    }
-    // One orientation for the projected faces (the projection may mirror), each fan face its own.
-    let sign: f64 = faces[..n_plane_faces]
-        .iter()
-        .map(|f| {
-            spherical_orientation(
-                points[f[0] as usize],
-                points[f[1] as usize],
-                points[f[2] as usize],
-            )
-        })
-        .sum();
-    for (i, f) in faces.iter_mut().enumerate() {
-        let o = spherical_orientation(
-            points[f[0] as usize],
-            points[f[1] as usize],
-            points[f[2] as usize],
-        );
-        if (i < n_plane_faces && sign < 0.0) || (i >= n_plane_faces && o < 0.0) {
-            f.swap(1, 2);
-        }
-    }
+    let faces = spherical_constrained_delaunay(&points, &segments, far_index)?;
 
     // Rings through the mesh, and every face's region (decided in the projection).
     let dense = |ring: &[usize]| -> Vec<usize> {
@@ -292,37 +253,22 @@ fn build(set: &RegionSet, target_faces: usize, path: &str) -> Result<GlobeMesh> 
         .enumerate()
         .flat_map(|(r, polys)| polys.iter().map(move |p| (r, p.clone())))
         .collect();
-    let mut face_region = assign_faces(
-        set,
-        &polygons,
-        &plane,
-        &plane,
-        &faces[..n_plane_faces],
-        path,
-    )?;
-    face_region.resize(faces.len(), None);
+    // Faces at the far point are sea; the others are decided in the projection.
+    let projected: Vec<usize> = (0..faces.len())
+        .filter(|&f| !faces[f].contains(&(far_index as u32)))
+        .collect();
+    let projected_faces: Vec<[u32; 3]> = projected.iter().map(|&f| faces[f]).collect();
+    let assigned = assign_faces(set, &polygons, &plane, &plane, &projected_faces, path)?;
+    let mut face_region = vec![None; faces.len()];
+    for (&f, r) in projected.iter().zip(assigned) {
+        face_region[f] = r;
+    }
     Ok(GlobeMesh {
         points,
         faces,
         face_region,
         rings,
     })
-}
-
-/// Even–odd test in longitude/latitude degrees (for choosing the far point).
-fn lon_lat_inside(points: &[[f64; 2]], rings: &[Vec<usize>], c: [f64; 2]) -> bool {
-    let mut odd = false;
-    for ring in rings {
-        for i in 0..ring.len() {
-            let (a, b) = (points[ring[i]], points[ring[(i + 1) % ring.len()]]);
-            if (a[1] > c[1]) != (b[1] > c[1])
-                && a[0] + (c[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]) > c[0]
-            {
-                odd = !odd;
-            }
-        }
-    }
-    odd
 }
 
 /// Computes the cartogram of `set` (longitude/latitude degrees) on the unit sphere by SDEM,

@@ -6,7 +6,7 @@
 //! the sea (gaps, lakes inside holes, the outside).
 
 use super::regions::{Buckets, RegionSet, bbox, max2, min2};
-use crate::mesh::triangulate::constrained_delaunay;
+use crate::mesh::triangulate::{constrained_delaunay, inside_loops};
 use crate::{Error, Result};
 use std::collections::HashMap;
 
@@ -318,7 +318,7 @@ pub(super) fn assign_faces(
             let (plo, phi) = bbox(rings.iter().flatten().map(|&v| ring_points[v]));
             let mut clash = None;
             grid.visit(plo, phi, |f| {
-                if clash.is_some() || !inside(ring_points, rings, centroids[f]) {
+                if clash.is_some() || !inside_loops(ring_points, rings, centroids[f]) {
                     return;
                 }
                 match owner[f] {
@@ -347,24 +347,6 @@ pub(super) fn assign_faces(
         }
     }
     Ok(owner.into_iter().map(|o| o.map(|(r, _)| r)).collect())
-}
-
-/// Even–odd test of `c` against the rings (vertex indices into `points`).
-fn inside(points: &[[f64; 2]], rings: &[Vec<usize>], c: [f64; 2]) -> bool {
-    let mut odd = false;
-    for ring in rings {
-        for i in 0..ring.len() {
-            let a = points[ring[i]];
-            let b = points[ring[(i + 1) % ring.len()]];
-            if (a[1] > c[1]) != (b[1] > c[1]) {
-                let x = a[0] + (c[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
-                if x > c[0] {
-                    odd = !odd;
-                }
-            }
-        }
-    }
-    odd
 }
 
 #[cfg(test)]
