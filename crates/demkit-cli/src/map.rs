@@ -41,6 +41,20 @@ pub struct Computed {
     pub torus: Option<Torus>,
 }
 
+impl Computed {
+    /// The report metrics of this map of `mesh` (DESIGN.md, "Report").
+    pub fn metrics(&self, mesh: &TriMesh) -> demkit::metrics::Metrics {
+        compute_metrics(
+            mesh,
+            &self.population,
+            &self.result.initial,
+            &self.result.positions,
+            self.domain,
+            self.landmarks.as_deref(),
+        )
+    }
+}
+
 /// Computes the density-equalizing map of a validated mesh with the options of `map` and
 /// `remesh`; `method` comes from [`resolve_method`].
 pub fn compute(
@@ -213,14 +227,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             demkit::apps::texture::texture_coordinates(result, &mesh.faces, c.torus.as_ref())?;
         demkit::io::write_textured_obj(uv, &mesh, &texture)?;
     }
-    let metrics = compute_metrics(
-        &mesh,
-        &c.population,
-        &result.initial,
-        &result.positions,
-        c.domain,
-        c.landmarks.as_deref(),
-    );
+    let metrics = c.metrics(&mesh);
     if let Some(png) = &a.render {
         crate::render::render_map(png, &mesh, &c, a)?;
     }

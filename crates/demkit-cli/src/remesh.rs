@@ -11,7 +11,6 @@ use demkit::TriMesh;
 use demkit::apps::remesh::quality::{max_distance_to_surface, quality};
 use demkit::apps::remesh::{Target, min_vertices, remesh};
 use demkit::mesh::topology::topology;
-use demkit::metrics::compute as compute_metrics;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -81,14 +80,7 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
     let c = compute(&mesh, method, &a.m, a.quiet)?;
     let result = &c.result;
     let t_map = t0.elapsed().as_secs_f64();
-    let metrics = compute_metrics(
-        &mesh,
-        &c.population,
-        &result.initial,
-        &result.positions,
-        c.domain,
-        c.landmarks.as_deref(),
-    );
+    let metrics = c.metrics(&mesh);
     if metrics.flipped_triangles > 0 {
         eprintln!(
             "error: the {} map has {} flipped triangles; the inverse map is not defined there, so the surface cannot be remeshed through it",
