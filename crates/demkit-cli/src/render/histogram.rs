@@ -135,7 +135,10 @@ impl Axis {
 
 /// A short label for a tick value: at most two significant digits below 10.
 pub fn label(v: f64) -> String {
-    let k = v.log10().round();
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let k = v.abs().log10().round();
     if !(1e-3..1e4).contains(&v) && (v / 10f64.powf(k) - 1.0).abs() < 1e-9 {
         return format!("1e{k}");
     }
@@ -144,7 +147,7 @@ pub fn label(v: f64) -> String {
     } else if v >= 1.0 {
         2
     } else {
-        (-v.log10()).ceil() as usize + 1
+        ((-v.abs().log10()).ceil() as usize).min(12) + 1
     };
     let s = format!("{v:.decimals$}");
     if s.contains('.') {
@@ -266,6 +269,7 @@ mod tests {
             0.5,
             1e4,
             1e-4,
+            0.0,
         ]
         .iter()
         .map(|&v| label(v))
@@ -273,7 +277,7 @@ mod tests {
         assert_eq!(
             l,
             [
-                "0.8", "1", "1.25", "0.91", "0.33", "0.001", "20", "0.5", "1e4", "1e-4"
+                "0.8", "1", "1.25", "0.91", "0.33", "0.001", "20", "0.5", "1e4", "1e-4", "0"
             ]
         );
     }
