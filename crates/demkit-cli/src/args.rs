@@ -275,6 +275,9 @@ pub struct RenderArgs {
     /// Picture size in pixels (64 to 4096).
     #[arg(long, default_value_t = 1024)]
     pub size: usize,
+    /// No warnings about the mesh.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// `demkit generate KIND ... --out FILE`

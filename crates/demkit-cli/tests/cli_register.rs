@@ -120,5 +120,24 @@ fn register_refuses_bad_landmarks_and_surfaces() {
     s.generate(&["polygon", "--out", "disk.obj"]);
     s.write("three.txt", "0\n1\n2\n");
     let e = run("three.txt", "three.txt", "disk.obj");
-    assert!(e.contains("genus") || e.contains("closed"), "{e}");
+    assert!(
+        e.contains("surface A") && e.contains("boundary loop"),
+        "{e}"
+    );
+    s.generate(&["torus", "--out", "torus.obj"]);
+    let e = s
+        .run(&[
+            "register",
+            "a.obj",
+            "torus.obj",
+            "--landmarks-a",
+            "three.txt",
+            "--landmarks-b",
+            "three.txt",
+            "--out",
+            "out.obj",
+            "--quiet",
+        ])
+        .input_error();
+    assert!(e.contains("surface B") && e.contains("genus 1"), "{e}");
 }

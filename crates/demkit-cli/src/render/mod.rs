@@ -87,7 +87,7 @@ pub fn run(a: &RenderArgs) -> Result<u8, Failure> {
     check_png_extension(&a.out)?;
     let view = parse_view(a.view.as_deref())?;
     let size = check_size(a.size)?;
-    let mesh = crate::map::read_valid_mesh(&a.mesh, false)?;
+    let mesh = crate::map::read_valid_mesh(&a.mesh, a.quiet)?;
     let colors = match &a.color {
         Some(path) => value_colors(&read_face_values(path, mesh.n_faces())?),
         None => vec![PLAIN; mesh.n_faces()],

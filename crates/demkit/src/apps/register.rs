@@ -12,7 +12,7 @@ use crate::geometry::locate::{SphericalLocator, interpolate};
 use crate::geometry::rotation::optimal_rotation;
 use crate::geometry::sphere::{mat_vec, normalize};
 use crate::geometry::{norm, sub};
-use crate::methods::{MapResult, ProgressFn, lsdem, spherical_conformal};
+use crate::methods::{MapResult, ProgressFn, check_sphere_input, lsdem, spherical_conformal};
 use crate::{Error, Result, TriMesh};
 
 /// The fewest landmark pairs a registration takes: two pairs leave a rotation about their axis
@@ -89,6 +89,8 @@ pub fn register(
             )));
         }
     }
+    check_sphere_input(a, population_a, "register (surface A)")?;
+    check_sphere_input(b, population_b, "register (surface B)")?;
     let conformal_a = spherical_conformal::run(a, population_a)?.positions;
     let conformal_b = spherical_conformal::run(b, population_b)?.positions;
     let targets = common_targets(

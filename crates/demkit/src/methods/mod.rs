@@ -15,6 +15,7 @@ mod planar_diffusion;
 pub mod sdem;
 mod sphere_density;
 mod sphere_input;
+pub(crate) use sphere_input::check_sphere_input;
 mod sphere_overlap;
 pub mod spherical_conformal;
 pub mod tdem;
