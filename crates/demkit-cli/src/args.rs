@@ -154,17 +154,24 @@ pub struct MapArgs {
     /// Also draw the initial and final density histograms side by side (.png).
     #[arg(long)]
     pub histogram: Option<PathBuf>,
-    /// The view of --render for sphere and torus maps: AZIMUTH:ELEVATION in degrees, z up
-    /// (default: -60:30, or -90:60 when the map is flattest along z); planar maps are drawn
-    /// flat from above unless this is given.
-    #[arg(long, allow_hyphen_values = true)]
-    pub view: Option<String>,
-    /// Height in pixels of the --render and --histogram pictures (64 to 4096).
-    #[arg(long, default_value_t = 1024)]
-    pub size: usize,
+    /// How pictures are drawn.
+    #[command(flatten)]
+    pub picture: PictureArgs,
     /// No progress bar and no warnings.
     #[arg(long)]
     pub quiet: bool,
+}
+
+/// The view and size of pictures (`map --render/--histogram`, `render`).
+#[derive(Args, Debug)]
+pub struct PictureArgs {
+    /// AZIMUTH:ELEVATION in degrees, z up (default: -60:30, or -90:60 for surfaces flattest
+    /// along z); planar meshes and maps are drawn flat from above unless this is given.
+    #[arg(long, allow_hyphen_values = true)]
+    pub view: Option<String>,
+    /// Picture height in pixels (64 to 4096); histograms are 1.5 times as wide.
+    #[arg(long, default_value_t = 1024)]
+    pub size: usize,
 }
 
 /// `demkit remesh MESH --out OUT [--vertices N] [method options]`
@@ -268,13 +275,9 @@ pub struct RenderArgs {
     /// One value per face (population-file format) to colour by; default: plain shading.
     #[arg(long)]
     pub color: Option<PathBuf>,
-    /// AZIMUTH:ELEVATION in degrees, z up; default: planar meshes from above, surfaces
-    /// flattest along z (height fields) from -90:60, others from -60:30.
-    #[arg(long, allow_hyphen_values = true)]
-    pub view: Option<String>,
-    /// Picture size in pixels (64 to 4096).
-    #[arg(long, default_value_t = 1024)]
-    pub size: usize,
+    /// How the picture is drawn.
+    #[command(flatten)]
+    pub picture: PictureArgs,
     /// No warnings about the mesh.
     #[arg(long)]
     pub quiet: bool,

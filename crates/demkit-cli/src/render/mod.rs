@@ -38,8 +38,8 @@ pub fn check_map_args(a: &MapArgs) -> Result<(), Failure> {
         check_png_extension(png)?;
     }
     if a.render.is_some() || a.histogram.is_some() {
-        parse_view(a.view.as_deref())?;
-        check_size(a.size)?;
+        parse_view(a.picture.view.as_deref())?;
+        check_size(a.picture.size)?;
     }
     Ok(())
 }
@@ -48,10 +48,11 @@ pub fn check_map_args(a: &MapArgs) -> Result<(), Failure> {
 /// surface) over its mean ΣP/ΣA, on a log scale: planar maps flat from above, sphere and torus
 /// maps lit from `--view`.
 pub fn render_map(png: &Path, mesh: &TriMesh, c: &Computed, a: &MapArgs) -> Result<(), Failure> {
-    let size = check_size(a.size)?;
+    let size = check_size(a.picture.size)?;
     let positions = &c.result.positions;
     let planar = c.domain == Domain::Plane;
-    let view = parse_view(a.view.as_deref())?.unwrap_or_else(|| default_view(positions, planar));
+    let view =
+        parse_view(a.picture.view.as_deref())?.unwrap_or_else(|| default_view(positions, planar));
     let areas = face_areas(&mesh.positions, &mesh.faces);
     let log_density: Vec<f64> = histogram::normalized_densities(&c.population, &areas)
         .iter()
@@ -74,7 +75,7 @@ pub fn render_histograms(
     c: &Computed,
     a: &MapArgs,
 ) -> Result<(), Failure> {
-    let size = check_size(a.size)?;
+    let size = check_size(a.picture.size)?;
     let (initial, _) = map_areas(&c.result.initial, &mesh.faces, c.domain);
     let (last, _) = map_areas(&c.result.positions, &mesh.faces, c.domain);
     let d0 = histogram::normalized_densities(&c.population, &initial);
@@ -85,8 +86,8 @@ pub fn render_histograms(
 /// Runs the render command; returns the exit code.
 pub fn run(a: &RenderArgs) -> Result<u8, Failure> {
     check_png_extension(&a.out)?;
-    let view = parse_view(a.view.as_deref())?;
-    let size = check_size(a.size)?;
+    let view = parse_view(a.picture.view.as_deref())?;
+    let size = check_size(a.picture.size)?;
     let mesh = crate::map::read_valid_mesh(&a.mesh, a.quiet)?;
     let colors = match &a.color {
         Some(path) => value_colors(&read_face_values(path, mesh.n_faces())?),
