@@ -87,9 +87,38 @@ pub fn rotation_to_north(c: [f64; 3]) -> Mat3 {
     [u, v, c]
 }
 
+/// `n` near-uniform unit vectors: the Fibonacci spiral `z_k = 1 − (2k + 1)/n`, longitude
+/// `k · π(3 − √5)` (every point has the same share `4π/n` of the sphere's area).
+pub fn fibonacci_sphere(n: usize) -> Vec<[f64; 3]> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..n)
+        .map(|k| {
+            let z = 1.0 - (2 * k + 1) as f64 / n as f64;
+            let rho = (1.0 - z * z).max(0.0).sqrt();
+            let (s, c) = (golden * k as f64).sin_cos();
+            [rho * c, rho * s, z]
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fibonacci_points_are_unit_and_balanced() {
+        let p = fibonacci_sphere(1000);
+        let mut c = [0.0; 3];
+        for q in &p {
+            assert!(((q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt() - 1.0).abs() < 1e-12);
+            for d in 0..3 {
+                c[d] += q[d] / 1000.0;
+            }
+        }
+        assert!(c.iter().all(|x| x.abs() < 1e-2), "{c:?}");
+        // Upper hemisphere holds half the points.
+        assert_eq!(p.iter().filter(|q| q[2] > 0.0).count(), 500);
+    }
 
     fn close(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
         (0..3).all(|k| (a[k] - b[k]).abs() < tol)

@@ -316,6 +316,7 @@ fn extract(cdt: &Cdt, keep: impl Fn(usize) -> bool) -> PlanarTriangulation {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::sphere::fibonacci_sphere;
 
     fn signed_area(p: &[[f64; 2]], f: [u32; 3]) -> f64 {
         let [a, b, c] = f.map(|v| p[v as usize]);
@@ -444,14 +445,7 @@ mod tests {
     #[test]
     fn fibonacci_points_give_a_closed_genus_zero_triangulation() {
         let n = 500;
-        let p: Vec<[f64; 3]> = (0..n)
-            .map(|i| {
-                let z = 1.0 - (2.0 * i as f64 + 1.0) / n as f64;
-                let r = (1.0 - z * z).sqrt();
-                let a = i as f64 * std::f64::consts::PI * (3.0 - 5f64.sqrt());
-                [r * a.cos(), r * a.sin(), z]
-            })
-            .collect();
+        let p = fibonacci_sphere(n);
         let f = spherical_delaunay(&p).unwrap();
         assert_eq!(f.len(), 2 * n - 4);
         check_closed_outward(&p, &f);
@@ -460,14 +454,7 @@ mod tests {
     #[test]
     fn a_segment_on_the_sphere_becomes_an_edge() {
         let n = 400;
-        let mut p: Vec<[f64; 3]> = (0..n)
-            .map(|i| {
-                let z = 1.0 - (2.0 * i as f64 + 1.0) / n as f64;
-                let r = (1.0 - z * z).sqrt();
-                let a = i as f64 * std::f64::consts::PI * (3.0 - 5f64.sqrt());
-                [r * a.cos(), r * a.sin(), z]
-            })
-            .collect();
+        let mut p = fibonacci_sphere(n);
         // Two points on the equator a short arc apart, joined by a segment, and the pole the
         // triangulation is seen from: the north pole, added last.
         let e = |t: f64| [t.cos(), t.sin(), 0.0];

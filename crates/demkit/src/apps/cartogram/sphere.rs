@@ -18,7 +18,9 @@ use super::regions::RegionSet;
 use super::triangulate::assign_faces;
 use super::{Cartogram, Config, MIN_CORRECTION, Polygon, Run, figures};
 use crate::geometry::face_areas;
-use crate::geometry::sphere::{mat_vec, normalize, project_from_north, rotation_to_north};
+use crate::geometry::sphere::{
+    fibonacci_sphere, mat_vec, normalize, project_from_north, rotation_to_north,
+};
 use crate::init::spherical_conformal::count_spherical_flips;
 use crate::mesh::triangulate::{inside_loops, spherical_constrained_delaunay};
 use crate::methods::{ProgressFn, StopReason, sdem};
@@ -55,19 +57,6 @@ fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
         a[0] * b[1] - a[1] * b[0],
     ];
     dot(c, c).sqrt().atan2(dot(a, b))
-}
-
-/// `n` points spread evenly over the unit sphere (Fibonacci lattice).
-fn fibonacci(n: usize) -> Vec<[f64; 3]> {
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    (0..n)
-        .map(|i| {
-            let z = 1.0 - (2.0 * i as f64 + 1.0) / n as f64;
-            let r = (1.0 - z * z).max(0.0).sqrt();
-            let t = golden * i as f64;
-            [r * t.cos(), r * t.sin(), z]
-        })
-        .collect()
 }
 
 /// Angular distance from `p` to the great-circle arc `a`–`b` (shorter than π).
@@ -162,7 +151,8 @@ fn build(set: &RegionSet, target_faces: usize, path: &str) -> Result<GlobeMesh> 
     }
     let n_boundary = points.len();
     // A lattice of spacing h: 2/(√3 h²) points per unit area.
-    let lattice = fibonacci(((2.0 * sphere_area / (3f64.sqrt() * h * h)).ceil() as usize).max(32));
+    let lattice =
+        fibonacci_sphere(((2.0 * sphere_area / (3f64.sqrt() * h * h)).ceil() as usize).max(32));
     // The far point: the lattice point farthest from every region vertex, outside every region.
     let mut order: Vec<(f64, usize)> = lattice
         .iter()

@@ -2,8 +2,6 @@
 //! uniformly distributed points on the density-equalizing map"): a hexagonal lattice in the
 //! plane, equally spaced points along a closed polyline, and a Fibonacci spiral on the sphere.
 
-use std::f64::consts::PI;
-
 /// Points per unit area of a hexagonal (equilateral) lattice of spacing `h`: `2 / (√3 h²)`.
 pub fn hex_density(h: f64) -> f64 {
     2.0 / (3f64.sqrt() * h * h)
@@ -81,20 +79,6 @@ pub fn resample_closed(poly: &[[f64; 2]], lengths: &[f64], h: f64) -> Vec<OnPoly
     out
 }
 
-/// `n` near-uniform unit vectors: the Fibonacci spiral `z_k = 1 − (2k + 1)/n`, longitude
-/// `k · π(3 − √5)` (every point has the same share `4π/n` of the sphere's area).
-pub fn fibonacci_sphere(n: usize) -> Vec<[f64; 3]> {
-    let golden = PI * (3.0 - 5f64.sqrt());
-    (0..n)
-        .map(|k| {
-            let z = 1.0 - (2 * k + 1) as f64 / n as f64;
-            let rho = (1.0 - z * z).max(0.0).sqrt();
-            let (s, c) = (golden * k as f64).sin_cos();
-            [rho * c, rho * s, z]
-        })
-        .collect()
-}
-
 /// Euclidean distance in the plane.
 pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
@@ -145,20 +129,5 @@ mod tests {
         assert_eq!(pts.len(), 16);
         assert_eq!(pts.iter().filter(|p| p.edge == 0).count(), 2);
         assert_eq!(pts.iter().filter(|p| p.edge == 1).count(), 6);
-    }
-
-    #[test]
-    fn fibonacci_points_are_unit_and_balanced() {
-        let p = fibonacci_sphere(1000);
-        let mut c = [0.0; 3];
-        for q in &p {
-            assert!(((q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt() - 1.0).abs() < 1e-12);
-            for d in 0..3 {
-                c[d] += q[d] / 1000.0;
-            }
-        }
-        assert!(c.iter().all(|x| x.abs() < 1e-2), "{c:?}");
-        // Upper hemisphere holds half the points.
-        assert_eq!(p.iter().filter(|q| q[2] > 0.0).count(), 500);
     }
 }

@@ -3,8 +3,8 @@
 //! back onto the input surface through the inverse map.
 
 use super::Layout;
-use super::sampling::fibonacci_sphere;
 use crate::Result;
+use crate::geometry::sphere::fibonacci_sphere;
 use crate::mesh::triangulate::spherical_delaunay;
 
 /// `n` (at least 4) near-uniform points on the unit sphere and their Delaunay triangulation,
