@@ -103,18 +103,15 @@ pub struct MethodArgs {
     /// Target torus radii R:r (tdem).
     #[arg(long)]
     pub torus: Option<String>,
-    /// Energy weight α (lsdem, deq).
+    /// Energy weight α (lsdem; deq, ldeq: the weight of mean |μ| against the density).
     #[arg(long)]
     pub alpha: Option<f64>,
-    /// Energy weight β (lsdem, deq).
+    /// Energy weight β (lsdem).
     #[arg(long)]
     pub beta: Option<f64>,
     /// Energy weight γ (lsdem).
     #[arg(long)]
     pub gamma: Option<f64>,
-    /// Penalty η of the landmark splitting (ldeq).
-    #[arg(long)]
-    pub eta: Option<f64>,
     /// Keep the holes' centres and radii (deq, ldeq): the shape-preserving variant.
     #[arg(long)]
     pub no_geometry_update: bool,

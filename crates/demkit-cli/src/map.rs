@@ -127,11 +127,7 @@ pub fn compute(
         Method::CircleConformal => circle_conformal::run(mesh, &population),
         Method::Deq => deq::run(mesh, &population, &deq_config(a), &mut progress),
         Method::Ldeq => {
-            let mut c = ldeq::Config {
-                deq: deq_config(a),
-                ..Default::default()
-            };
-            c.eta = a.eta.unwrap_or(c.eta);
+            let c = ldeq::Config { deq: deq_config(a) };
             let l = landmarks.as_deref().unwrap_or(&[]);
             ldeq::run(mesh, &population, l, &c, &mut progress)
         }
@@ -271,11 +267,8 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
 /// DEQ's parameters from the command line (paper defaults otherwise).
 fn deq_config(a: &MethodArgs) -> deq::Config {
     let mut c = deq::Config::default();
-    let mut dt = Some(c.dt);
-    apply_common(&mut c.epsilon, &mut c.max_iter, &mut dt, a);
-    c.dt = dt.unwrap_or(c.dt);
+    apply_common(&mut c.epsilon, &mut c.max_iter, &mut c.dt, a);
     c.alpha = a.alpha.unwrap_or(c.alpha);
-    c.beta = a.beta.unwrap_or(c.beta);
     c.geometry_update = !a.no_geometry_update;
     c
 }
@@ -354,11 +347,7 @@ pub fn warn_unused(a: &MethodArgs, m: Method, quiet: bool) {
             a.alpha.is_some() && !matches!(m, Method::Lsdem | Method::Deq | Method::Ldeq),
             "--alpha",
         ),
-        (
-            a.beta.is_some() && !matches!(m, Method::Lsdem | Method::Deq | Method::Ldeq),
-            "--beta",
-        ),
-        (a.eta.is_some() && m != Method::Ldeq, "--eta"),
+        (a.beta.is_some() && m != Method::Lsdem, "--beta"),
         (
             a.no_geometry_update && !matches!(m, Method::Deq | Method::Ldeq),
             "--no-geometry-update",

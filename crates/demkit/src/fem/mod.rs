@@ -4,12 +4,14 @@
 //! same operators on the flat torus (`UnfoldedFaces`, TDEM paper (13)–(21)).
 
 mod diffusion;
+mod dirichlet;
 mod face_to_vertex;
 mod gradient;
 mod laplacian;
 mod periodic;
 
 pub use diffusion::{DiffusionFactor, DiffusionOperator};
+pub use dirichlet::{DirichletSystem, uniform_weights};
 pub use face_to_vertex::VertexFaces;
 pub use gradient::{face_gradient, face_gradient_into};
 pub use laplacian::{cotangent_weights, cotangent_weights_into, lumped_mass};

@@ -17,6 +17,10 @@ pub enum InteriorWeights {
         /// The blend parameter λ ∈ [0, 1].
         lambda: f64,
     },
+    /// Floater's mean value weights `w_ij = (tan(α/2) + tan(β/2)) / |x_i − x_j|`, with α, β the
+    /// angles at `x_i` of the two triangles on edge `ij`: positive, so bijective for a convex
+    /// boundary like Tutte's, and reproducing planar meshes (closer to conformal).
+    MeanValue,
 }
 
 /// Solves `Σ_j w_ij (φ_j − φ_i) = 0` at every interior vertex with `φ = boundary_positions`
@@ -69,6 +73,7 @@ pub fn fixed_boundary_map(
                 let c = 3 - a - b; // the third corner
                 let w = match weights {
                     InteriorWeights::Tutte => 0.5,
+                    InteriorWeights::MeanValue => mean_value_weight(p, a, b),
                     InteriorWeights::Authalic { lambda } => {
                         let e = sub(p[b], p[a]);
                         // Chi weight (4.15): cot of the angle at x_j in this face over |x_i − x_j|².
@@ -97,6 +102,21 @@ pub fn fixed_boundary_map(
             None => [rhs[unknown[v]], rhs[n_free + unknown[v]], 0.0],
         })
         .collect())
+}
+
+/// The share of triangle `p` in the mean value weight of the edge from corner `a` to corner
+/// `b`: `tan(θ_a / 2) / |p_b − p_a|` with θ_a the angle at `a` (clamped away from 0 and π, so a
+/// degenerate triangle gives a small positive weight instead of 0 or ∞).
+fn mean_value_weight(p: [[f64; 3]; 3], a: usize, b: usize) -> f64 {
+    let c = 3 - a - b;
+    let (u, v) = (sub(p[b], p[a]), sub(p[c], p[a]));
+    let (lu, lv) = (dot(u, u).sqrt(), dot(v, v).sqrt());
+    if !(lu > 0.0 && lv > 0.0) {
+        return 0.0;
+    }
+    let cos = (dot(u, v) / (lu * lv)).clamp(-1.0, 1.0);
+    let theta = cos.acos().clamp(1e-6, std::f64::consts::PI - 1e-6);
+    (0.5 * theta).tan() / lu
 }
 
 /// The initial flattening of Alg. 2 / Alg. 3: the locally authalic map if requested and free of

@@ -317,8 +317,13 @@ impl SpdSolver {
             (Some(fwd), Some(inv)) => SymmetricOrdering::Custom(PermRef::new_checked(fwd, inv, n)),
             _ => SymmetricOrdering::Amd,
         };
-        let symbolic = factorize_symbolic_cholesky(sym, Side::Lower, ordering, Default::default())
-            .map_err(|e| Error::Numerical(format!("symbolic Cholesky analysis failed: {e:?}")))?;
+        let symbolic = factorize_symbolic_cholesky(
+            sym,
+            Side::Lower,
+            ordering,
+            super::cholesky::supernodal_params(),
+        )
+        .map_err(|e| Error::Numerical(format!("symbolic Cholesky analysis failed: {e:?}")))?;
         let req = StackReq::any_of(&[
             symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
             symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),

@@ -12,7 +12,8 @@ use std::time::Instant;
 pub fn run(mesh: &TriMesh, population: &[f64]) -> Result<MapResult> {
     let loops = circle_input(mesh, population, "circle-conformal")?;
     let t0 = Instant::now();
-    let domain = super::deq::initial_circle_domain(mesh, &loops, population)?;
+    let domain = crate::init::circle_domain::circle_domain_map(mesh, &loops)?;
+    let domain = crate::init::disk_mobius::balance_areas(&domain, &mesh.faces, population);
     Ok(MapResult {
         flat_torus: None,
         method: "circle-conformal",

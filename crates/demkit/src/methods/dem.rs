@@ -115,7 +115,7 @@ pub fn run(
         population: ext_pop,
         n_roi_vertices: sea.n_roi_vertices,
         n_roi_faces: sea.n_roi_faces,
-        shape: None,
+        constraint: &super::planar_diffusion::Free,
         dt: config.dt,
         epsilon: config.epsilon,
         max_iter: config.max_iter,

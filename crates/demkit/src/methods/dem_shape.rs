@@ -79,12 +79,16 @@ pub fn run(
     }
     let time_init = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
+    let constraint = planar_diffusion::OnShape {
+        boundary,
+        shape: config.shape,
+    };
     let problem = Problem {
         faces,
         population: population.to_vec(),
         n_roi_vertices: mesh.n_vertices(),
         n_roi_faces: mesh.n_faces(),
-        shape: Some((boundary, config.shape)),
+        constraint: &constraint,
         dt: config.dt,
         epsilon: config.epsilon,
         max_iter: config.max_iter,

@@ -1,14 +1,11 @@
 //! The density-equalizing methods. Each is a `Config` whose `Default` is its paper's defaults
 //! and a `run` function returning a [`MapResult`].
 
-mod beltrami_descent;
 pub mod circle_conformal;
-mod circle_flow;
 pub mod dem;
 pub mod dem_shape;
 pub mod deq;
 mod disk_input;
-mod geometry_modification;
 pub mod ldeq;
 pub mod lsdem;
 mod planar_diffusion;

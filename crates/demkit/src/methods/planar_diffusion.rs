@@ -17,6 +17,58 @@ use crate::init::shape::Shape;
 use crate::metrics::normalized_variance;
 use rayon::prelude::*;
 
+/// How the vertices of a planar diffusion problem may move.
+pub(crate) trait Constraint {
+    /// Replaces the displacement `step` (per vertex) of the map `r` by the part of it the
+    /// constraint admits, in place. Default: every vertex moves freely.
+    fn admissible_step(&self, _r: &[[f64; 3]], _step: &mut [[f64; 2]]) {}
+
+    /// The map after moving `r` by `tau · step`, `step` admissible.
+    fn realize(&self, r: &[[f64; 3]], step: &[[f64; 2]], tau: f64) -> Vec<[f64; 3]> {
+        linear_move(r, step, tau)
+    }
+
+    /// True when the collapse of `face` limits a step (default: every face).
+    fn limits_step(&self, _face: usize) -> bool {
+        true
+    }
+
+    /// Improves the map after a density move over diffusion time `time` without folding it
+    /// (default: nothing).
+    fn regularize(&self, _r: &mut [[f64; 3]], _time: f64) {}
+}
+
+/// `r + tau · step` (z = 0).
+pub(crate) fn linear_move(r: &[[f64; 3]], step: &[[f64; 2]], tau: f64) -> Vec<[f64; 3]> {
+    r.iter()
+        .zip(step)
+        .map(|(p, s)| [p[0] + tau * s[0], p[1] + tau * s[1], 0.0])
+        .collect()
+}
+
+/// Every vertex moves freely (DEM with its sea).
+pub(crate) struct Free;
+
+impl Constraint for Free {}
+
+/// The boundary `loop_` slides along a prescribed shape (Alg. 6 line 12): boundary vertices are
+/// projected back onto it after every move.
+pub(crate) struct OnShape {
+    pub boundary: Vec<u32>,
+    pub shape: Shape,
+}
+
+impl Constraint for OnShape {
+    fn realize(&self, r: &[[f64; 3]], step: &[[f64; 2]], tau: f64) -> Vec<[f64; 3]> {
+        let mut out = linear_move(r, step, tau);
+        for &v in &self.boundary {
+            let p = self.shape.project([out[v as usize][0], out[v as usize][1]]);
+            out[v as usize] = [p[0], p[1], 0.0];
+        }
+        out
+    }
+}
+
 /// A planar diffusion problem: an (extended) triangulation whose first `n_roi_faces` faces and
 /// `n_roi_vertices` vertices are the region of interest, the rest a sea (possibly empty).
 pub(crate) struct Problem<'a> {
@@ -28,8 +80,8 @@ pub(crate) struct Problem<'a> {
     pub n_roi_vertices: usize,
     /// Number of region-of-interest faces (they come first).
     pub n_roi_faces: usize,
-    /// Boundary vertices projected onto a prescribed shape after every step (Alg. 6 line 12).
-    pub shape: Option<(Vec<u32>, Shape)>,
+    /// How the vertices may move (free, a boundary on a shape, a circle domain).
+    pub constraint: &'a dyn Constraint,
     /// A fixed time step δt; `None` recomputes δt by (4.39) from the current density.
     pub dt: Option<f64>,
     /// Stop when sd/mean of the recoupled ROI vertex density falls below this.
@@ -141,7 +193,7 @@ pub(crate) fn run(
     let mut m = measure(&r);
     let mut history = Vec::new();
     let mut best = (m.error, r.clone());
-    let mut best_history = vec![m.error];
+    let mut best_history = vec![best.0];
     if m.sd_over_mean < problem.epsilon {
         return Ok(Outcome {
             positions: r,
@@ -180,10 +232,12 @@ pub(crate) fn run(
             velocity[n + i] = -mass[i] * g[1] / p;
         }
         step_operator.factor.solve_many_in_place(&mut velocity, 2);
-        let step: Vec<[f64; 2]> = (0..n)
+        let mut step: Vec<[f64; 2]> = (0..n)
             .map(|i| [dt * velocity[i], dt * velocity[n + i]])
             .collect();
+        problem.constraint.admissible_step(&r, &mut step);
         let tau = safe_update(problem, &mut r, &step);
+        problem.constraint.regularize(&mut r, tau * dt);
 
         let previous_error = m.error;
         m = measure(&r);
@@ -236,15 +290,6 @@ fn has_flip(r: &[[f64; 3]], faces: &[[u32; 3]]) -> bool {
         .any(|f| !(signed_area_2d(r[f[0] as usize], r[f[1] as usize], r[f[2] as usize]) > 0.0))
 }
 
-fn project_shape(problem: &Problem, r: &mut [[f64; 3]]) {
-    if let Some((boundary, shape)) = &problem.shape {
-        for &v in boundary {
-            let p = shape.project([r[v as usize][0], r[v as usize][1]]);
-            r[v as usize] = [p[0], p[1], 0.0];
-        }
-    }
-}
-
 /// The first time `t > 0` at which the triangle `p + t s` (corners moving linearly) has zero
 /// signed area, or +∞. The signed area is the quadratic `a + b t + c t²` with `a > 0`.
 pub(crate) fn collapse_time(p: [[f64; 3]; 3], s: [[f64; 2]; 3]) -> f64 {
@@ -279,25 +324,27 @@ pub(crate) fn collapse_time(p: [[f64; 3]; 3], s: [[f64; 2]; 3]) -> f64 {
 
 /// Moves `r` by `step` without flipping any triangle, keeping a margin: the step is scaled
 /// uniformly to `τ = min(1, t/2)`, where `t` is the earliest time at which a triangle moving
-/// linearly along the step would collapse ([`collapse_time`]); a uniform scaling of a linear
-/// motion keeps every triangle positive, and the margin keeps triangles from being squeezed
-/// almost flat in one step. With a prescribed shape the boundary vertices are projected back
-/// onto it, halving τ while that flips a triangle; if nothing works the map stays put.
+/// linearly along the step would collapse ([`collapse_time`]; only the faces the constraint
+/// lets limit the step); a uniform scaling of a linear motion keeps every triangle positive,
+/// and the margin keeps triangles from being squeezed almost flat in one step. The constraint
+/// then realizes the move (e.g. projects a boundary back onto its shape), halving τ while that
+/// flips a triangle; if nothing works the map stays put.
 /// Returns the factor τ applied to the step (0 if the map stayed put).
 fn safe_update(problem: &Problem, r: &mut Vec<[f64; 3]>, step: &[[f64; 2]]) -> f64 {
     let faces = problem.faces;
-    let t_min = faces
+    let constraint = problem.constraint;
+    let times: Vec<f64> = faces
         .par_iter()
         .map(|f| collapse_time(f.map(|v| r[v as usize]), f.map(|v| step[v as usize])))
-        .reduce(|| f64::INFINITY, f64::min);
+        .collect();
+    let t_min = times
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| constraint.limits_step(k))
+        .fold(f64::INFINITY, |m, (_, &t)| m.min(t));
     let mut tau = (0.5 * t_min).min(1.0);
     for _ in 0..12 {
-        let mut proposal: Vec<[f64; 3]> = r
-            .iter()
-            .zip(step)
-            .map(|(p, s)| [p[0] + tau * s[0], p[1] + tau * s[1], 0.0])
-            .collect();
-        project_shape(problem, &mut proposal);
+        let proposal = constraint.realize(r, step, tau);
         if !has_flip(&proposal, faces) {
             *r = proposal;
             return tau;
@@ -349,7 +396,7 @@ mod tests {
             population: vec![1.0; faces.len()],
             n_roi_vertices: pos.len(),
             n_roi_faces: faces.len(),
-            shape: None,
+            constraint: &Free,
             dt: Some(1.0),
             epsilon: 1e-3,
             max_iter: 1,

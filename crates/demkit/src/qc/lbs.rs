@@ -4,7 +4,8 @@
 //! finite elements (the "generalized Laplacian") and Dirichlet boundary values.
 
 use crate::Result;
-use crate::linalg::{CachedCholesky, StiffnessPattern};
+use crate::fem::DirichletSystem;
+use crate::geometry::local_frame;
 use num_complex::Complex64;
 use rayon::prelude::*;
 
@@ -21,30 +22,52 @@ pub fn generalized_laplacian_weights(
         .par_iter()
         .zip(mu.par_iter())
         .map(|(f, m)| {
-            let p = f.map(|v| source[v as usize]);
-            let twice_area = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
-                - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
-            if twice_area <= 0.0 {
-                return [0.0; 3];
-            }
-            // (3.8), with μ = ρ + iτ.
-            let (rho, tau) = (m.re, m.im);
-            let den = 1.0 - rho * rho - tau * tau;
-            let a1 = ((rho - 1.0).powi(2) + tau * tau) / den;
-            let a2 = -2.0 * tau / den;
-            let a3 = (1.0 + 2.0 * rho + rho * rho + tau * tau) / den;
-            // ∇φ_k · 2A = rot90(p_{k+2} − p_{k+1}) with rot90(x, y) = (−y, x).
-            let g: [[f64; 2]; 3] = std::array::from_fn(|k| {
-                let (b, c) = (p[(k + 1) % 3], p[(k + 2) % 3]);
-                [-(c[1] - b[1]), c[0] - b[0]]
-            });
-            let form = |x: [f64; 2], y: [f64; 2]| {
-                x[0] * (a1 * y[0] + a2 * y[1]) + x[1] * (a2 * y[0] + a3 * y[1])
-            };
-            // Area ∇φ_a·A∇φ_b = form(g_a, g_b) / (4 Area) = form / (2 · twice_area).
-            std::array::from_fn(|c| -form(g[(c + 1) % 3], g[(c + 2) % 3]) / (2.0 * twice_area))
+            let p = f.map(|v| [source[v as usize][0], source[v as usize][1]]);
+            triangle_weights(p, *m)
         })
         .collect()
+}
+
+/// [`generalized_laplacian_weights`] for a source surface in R³: every triangle in its own
+/// orthonormal frame ([`local_frame`]), in which `mu` is expressed as well (as
+/// [`super::beltrami_coefficient_surface`] gives it). The weights do not depend on the frame,
+/// so LBS reconstructs the map from the surface directly.
+pub fn surface_laplacian_weights(
+    surface: &[[f64; 3]],
+    faces: &[[u32; 3]],
+    mu: &[Complex64],
+) -> Vec<[f64; 3]> {
+    faces
+        .par_iter()
+        .zip(mu.par_iter())
+        .map(|(f, m)| triangle_weights(local_frame(f.map(|v| surface[v as usize])), *m))
+        .collect()
+}
+
+/// The generalized Laplacian weights of one counter-clockwise source triangle `p` for the
+/// Beltrami coefficient `m` (|m| < 1): entry `c` is `−Area ∇φ_a · A ∇φ_b` for the other two
+/// corners `a, b`, with A of (3.8). Zero for a degenerate or clockwise triangle.
+fn triangle_weights(p: [[f64; 2]; 3], m: Complex64) -> [f64; 3] {
+    let twice_area =
+        (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+    if twice_area <= 0.0 {
+        return [0.0; 3];
+    }
+    // (3.8), with μ = ρ + iτ.
+    let (rho, tau) = (m.re, m.im);
+    let den = 1.0 - rho * rho - tau * tau;
+    let a1 = ((rho - 1.0).powi(2) + tau * tau) / den;
+    let a2 = -2.0 * tau / den;
+    let a3 = (1.0 + 2.0 * rho + rho * rho + tau * tau) / den;
+    // ∇φ_k · 2A = rot90(p_{k+2} − p_{k+1}) with rot90(x, y) = (−y, x).
+    let g: [[f64; 2]; 3] = std::array::from_fn(|k| {
+        let (b, c) = (p[(k + 1) % 3], p[(k + 2) % 3]);
+        [-(c[1] - b[1]), c[0] - b[0]]
+    });
+    let form =
+        |x: [f64; 2], y: [f64; 2]| x[0] * (a1 * y[0] + a2 * y[1]) + x[1] * (a2 * y[0] + a3 * y[1]);
+    // Area ∇φ_a·A∇φ_b = form(g_a, g_b) / (4 Area) = form / (2 · twice_area).
+    std::array::from_fn(|c| -form(g[(c + 1) % 3], g[(c + 2) % 3]) / (2.0 * twice_area))
 }
 
 /// LBS with a fixed set of Dirichlet vertices on a fixed connectivity: the sparsity pattern and
@@ -53,22 +76,16 @@ pub fn generalized_laplacian_weights(
 #[derive(Debug)]
 pub struct LinearBeltramiSolver {
     faces: Vec<[u32; 3]>,
-    fixed: Vec<bool>,
-    pattern: StiffnessPattern,
-    cholesky: CachedCholesky,
+    system: DirichletSystem,
 }
 
 impl LinearBeltramiSolver {
     /// Prepares the solver for meshes with this connectivity and these fixed vertices
     /// (at least one vertex must be fixed, two for a unique planar map).
     pub fn new(n_vertices: usize, faces: &[[u32; 3]], fixed: &[bool]) -> Result<Self> {
-        let pattern = StiffnessPattern::new(n_vertices, faces, Some(fixed));
-        let cholesky = CachedCholesky::new(&pattern)?;
         Ok(Self {
             faces: faces.to_vec(),
-            fixed: fixed.to_vec(),
-            pattern,
-            cholesky,
+            system: DirichletSystem::new(n_vertices, faces, fixed)?,
         })
     }
 
@@ -82,26 +99,7 @@ impl LinearBeltramiSolver {
         boundary: &[[f64; 3]],
     ) -> Result<Vec<[f64; 3]>> {
         let w = generalized_laplacian_weights(source, &self.faces, mu);
-        let mut values = vec![0.0; self.pattern.nnz()];
-        self.pattern.assemble(&w, &[], &mut values);
-        let factor = self.cholesky.factor(&self.pattern, &values)?;
-        let bx: Vec<f64> = boundary.iter().map(|p| p[0]).collect();
-        let by: Vec<f64> = boundary.iter().map(|p| p[1]).collect();
-        let n = self.pattern.n_unknowns();
-        let mut rhs = self.pattern.fixed_rhs(&w, &bx);
-        rhs.extend(self.pattern.fixed_rhs(&w, &by));
-        factor.solve_many_in_place(&mut rhs, 2);
-        let map = self.pattern.unknown_map();
-        Ok((0..source.len())
-            .map(|v| {
-                if self.fixed[v] {
-                    [boundary[v][0], boundary[v][1], 0.0]
-                } else {
-                    let u = map[v] as usize;
-                    [rhs[u], rhs[n + u], 0.0]
-                }
-            })
-            .collect())
+        self.system.solve(&w, boundary)
     }
 }
 

@@ -9,5 +9,5 @@ pub use beltrami::{
     beltrami_coefficient, beltrami_coefficient_surface, beltrami_coefficient_surfaces, cut_off,
     triangle_beltrami, triangle_beltrami_derivatives, truncate,
 };
-pub use lbs::{LinearBeltramiSolver, generalized_laplacian_weights};
+pub use lbs::{LinearBeltramiSolver, generalized_laplacian_weights, surface_laplacian_weights};
 pub use periodic_lbs::PeriodicBeltramiSolver;

@@ -190,7 +190,7 @@ fn check_faces(mesh: &TriMesh) -> Result<()> {
 
 /// The loops with the outer one first — the one spanning the largest area ([`vector_area`]) —
 /// after checking they are usable.
-fn ordered_loops(mesh: &TriMesh, loops: &[Vec<u32>]) -> Result<Vec<Vec<u32>>> {
+pub(crate) fn ordered_loops(mesh: &TriMesh, loops: &[Vec<u32>]) -> Result<Vec<Vec<u32>>> {
     if loops.is_empty() {
         return Err(topology_error(
             "the surface has no boundary; a circle domain map needs an open surface".into(),

@@ -1,0 +1,471 @@
+//! DEQ and LDEQ: bijective density-equalizing maps of multiply connected open surfaces (and
+//! disks) onto circle domains — the unit disk minus round holes whose centres and radii the
+//! method chooses — with low quasi-conformal distortion (Lyu, Choi & Lui 2024, models (4.2)
+//! and (4.7)). The algorithm departs from the paper's Algorithms 5.1–5.4 where measurements
+//! showed it had to (README, *Deviations*):
+//!
+//! 1. **Rims** ([`rim`]): ears and peninsulas of the holes, which no circle domain can hold
+//!    outside its circles, are laid inside their holes.
+//! 2. **Initial map** ([`initial`], [`rounding`]): the holes filled with fans, the filled disk
+//!    embedded with positive weights and the outer loop on the unit circle, then every hole
+//!    made round without folding the map; LDEQ's landmarks are then carried to their targets
+//!    the same way.
+//! 3. **Density-equalizing iteration**: each hole is filled with a triangulated disk carrying
+//!    the hole's share of the population ([`patch`]), and the DEM paper's diffusion iteration
+//!    runs on the filled disk (`planar_diffusion`), the outer loop sliding on the unit circle,
+//!    each hole moving as a circle — translated, scaled, its vertices sliding along it: the GM
+//!    step's domain alteration — ([`circles`]), a Beltrami relaxation after every move
+//!    ([`beltrami`]), every step short enough that no triangle flips. It stops once the
+//!    density is roughly equal (sd/mean of the vertex density below [`COARSE_EPSILON`]).
+//! 4. **DEQ energy** ([`energy`]): the energy (4.2) in its per-face form, density misfit plus
+//!    α times the Beltrami coefficient, minimised by projected Newton over circle domain maps
+//!    (landmarks pinned), every step bijective; it stops when an iteration lowers the energy
+//!    by less than ε.
+
+mod beltrami;
+mod circles;
+mod energy;
+mod initial;
+mod layout;
+mod newton;
+mod parameters;
+mod patch;
+mod rim;
+mod rounding;
+
+use super::planar_diffusion::{self, Problem};
+use super::{MapResult, ProgressFn, StopReason};
+use crate::geometry::{count_nonpositive, face_areas};
+use crate::mesh::topology::topology;
+use crate::{Error, Result, TriMesh};
+use circles::CircleBoundary;
+use layout::Layout;
+use patch::Patch;
+use std::time::Instant;
+
+/// The density-equalizing iteration stops once sd/mean of the vertex density is below this;
+/// the DEQ energy's minimisation does the rest.
+pub const COARSE_EPSILON: f64 = 0.1;
+
+/// The density-equalizing iteration's own iteration limit.
+const COARSE_MAX_ITER: usize = 300;
+
+/// Newton iterations at most on the density alone, and their tolerance (see [`run`]'s
+/// fourth step).
+const LOG_STAGE_ITERATIONS: usize = 30;
+const LOG_STAGE_TOLERANCE: f64 = 1e-2;
+
+/// DEQ parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Config {
+    /// Weight α of the mean |μ| against the density misfit in the DEQ energy.
+    pub alpha: f64,
+    /// A fixed time step of the density-equalizing iteration; `None` recomputes it from the
+    /// density (DEM paper (4.39)).
+    pub dt: Option<f64>,
+    /// Stop when a Newton iteration lowers the DEQ energy by less than this fraction of it.
+    pub epsilon: f64,
+    /// Newton iterations at most.
+    pub max_iter: usize,
+    /// Let the holes move and change size (false: every hole keeps the circle of the initial
+    /// map, the shape-preserving DEQ of §5.1.4).
+    pub geometry_update: bool,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Self {
+            alpha: 0.3,
+            dt: None,
+            epsilon: 5e-3,
+            max_iter: 200,
+            geometry_update: true,
+        }
+    }
+}
+
+/// Checks that `mesh` is a connected open surface of genus 0 (a disk or a disk with holes)
+/// and `population` has one positive value per face; returns its boundary loops, the outer
+/// one first (the loop spanning the largest area).
+pub(crate) fn circle_input(
+    mesh: &TriMesh,
+    population: &[f64],
+    method: &str,
+) -> Result<Vec<Vec<u32>>> {
+    let topo = topology(mesh);
+    if topo.components != 1 || topo.boundary_loops.is_empty() || topo.genus != 0 {
+        let what = if topo.boundary_loops.is_empty() {
+            format!("a closed surface of genus {}", topo.genus)
+        } else if topo.components != 1 {
+            format!("a mesh of {} separate pieces", topo.components)
+        } else {
+            format!(
+                "a surface of genus {} with {} boundary loops",
+                topo.genus,
+                topo.boundary_loops.len()
+            )
+        };
+        return Err(Error::Topology {
+            method: method.to_string(),
+            msg: format!(
+                "{method} needs a connected open surface of genus 0 (a disk, possibly with holes), but this is {what}"
+            ),
+        });
+    }
+    crate::population::check_population(population, mesh.n_faces())?;
+    crate::init::circle_domain::ordered_loops(mesh, &topo.boundary_loops)
+}
+
+pub(crate) fn check_config(c: &Config) -> Result<()> {
+    super::dem::check_config_values(c.epsilon, c.dt, c.max_iter)?;
+    if !(c.alpha >= 0.0 && c.alpha.is_finite()) {
+        return Err(Error::Argument(format!(
+            "--alpha must be zero or positive, got {}",
+            c.alpha
+        )));
+    }
+    Ok(())
+}
+
+/// Computes the DEQ map of `mesh` (a connected open genus-0 surface) with one `population`
+/// value per face. The result lies in the unit disk (z = 0), in input vertex order.
+pub fn run(
+    mesh: &TriMesh,
+    population: &[f64],
+    config: &Config,
+    progress: ProgressFn,
+) -> Result<MapResult> {
+    check_config(config)?;
+    let loops = circle_input(mesh, population, "deq")?;
+    circle_domain_map(mesh, population, &loops, &[], config, "deq", progress)
+}
+
+/// The whole method for DEQ (no `landmarks`) and LDEQ (interior vertices sent to planar
+/// targets inside the unit disk; checked by the caller). `loops` come from [`circle_input`].
+pub(crate) fn circle_domain_map(
+    mesh: &TriMesh,
+    population: &[f64],
+    loops: &[Vec<u32>],
+    landmarks: &[(usize, [f64; 2])],
+    config: &Config,
+    method: &'static str,
+    progress: ProgressFn,
+) -> Result<MapResult> {
+    let t0 = Instant::now();
+    let mut notes = Vec::new();
+    let rims = rim::peel(mesh.n_vertices(), &mesh.faces, loops)?;
+    if rims.n_peeled() > 0 {
+        notes.push(format!(
+            "{} faces on the rims of holes (ears and peninsulas: joined to the rest by one edge \
+             whose ends are on the same hole) lie inside their holes: no circle domain can hold \
+             them outside",
+            rims.n_peeled()
+        ));
+    }
+    let layout = Layout::new(mesh, loops, &rims);
+    let hole_loops: Vec<Vec<u32>> = layout.holes.iter().map(|h| h.circle_loop.clone()).collect();
+
+    // The initial map: the fan-filled disk, its holes made round.
+    let embedding = initial::filled_disk_embedding(mesh, population, &layout)?;
+    let mut x = embedding.positions;
+    let mut held = vec![false; x.len()];
+    for &v in layout.outer.iter().chain(hole_loops.iter().flatten()) {
+        held[v as usize] = true;
+    }
+    let mut circles = Vec::with_capacity(hole_loops.len());
+    let mut movers = Vec::new();
+    for (lp, &centre) in hole_loops.iter().zip(&embedding.centres) {
+        let (circle, targets) = rounding::round_targets(&x, lp, centre);
+        circles.push(circle);
+        movers.extend(targets);
+    }
+    if !rounding::move_vertices(&layout.region_faces, &mut x, &held, &movers)? {
+        return Err(Error::Numerical(
+            "a hole of the initial map could not be made round without folding the map".into(),
+        ));
+    }
+    // LDEQ: the landmarks go to their targets.
+    let pinned: Vec<u32> = landmarks
+        .iter()
+        .map(|&(v, _)| layout.working_vertex[v])
+        .collect();
+    let mut missed = Vec::new();
+    if !landmarks.is_empty() {
+        let targets: Vec<(u32, [f64; 2])> = pinned
+            .iter()
+            .zip(landmarks)
+            .map(|(&w, &(_, q))| (w, q))
+            .collect();
+        rounding::move_vertices(&layout.region_faces, &mut x, &held, &targets)?;
+        for (k, (&w, &(v, q))) in pinned.iter().zip(landmarks).enumerate() {
+            if x[w as usize][0] != q[0] || x[w as usize][1] != q[1] {
+                missed.push((k, v));
+            }
+        }
+        for &w in &pinned {
+            held[w as usize] = true;
+        }
+    }
+
+    // The hole fillings and the populations of the filled disk.
+    let mut patches = Vec::with_capacity(circles.len());
+    for (hole, &c) in layout.holes.iter().zip(&circles) {
+        patches.push(Patch::build(&mut x, hole, c)?);
+    }
+    let mut faces = layout.region_faces.clone();
+    let mut filled_population: Vec<f64> = layout
+        .region_face_input
+        .iter()
+        .map(|&f| population[f])
+        .collect();
+    let surface_areas = face_areas(&mesh.positions, &mesh.faces);
+    let mean_density = population.iter().sum::<f64>() / surface_areas.iter().sum::<f64>();
+    for (hole, p) in layout.holes.iter().zip(&patches) {
+        // The hole carries the mean density over the area it spans on the surface, plus the
+        // population of its rim faces.
+        let rim: f64 = hole.rim_face_input.iter().map(|&f| population[f]).sum();
+        let total = mean_density * hole.surface_area + rim;
+        let areas = face_areas(&x, &p.faces);
+        let sum: f64 = areas.iter().sum();
+        filled_population.extend(areas.iter().map(|a| total * a / sum));
+        faces.extend_from_slice(&p.faces);
+    }
+    let n_surface = layout.n_surface_vertices();
+    let initial = layout.to_input(&x[..n_surface]);
+    if count_nonpositive(&initial, &mesh.faces) > 0 {
+        return Err(Error::Numerical(
+            "the initial circle domain map folds a triangle".into(),
+        ));
+    }
+    let time_init = t0.elapsed().as_secs_f64();
+
+    // The density-equalizing iteration on the filled disk.
+    let t1 = Instant::now();
+    held.resize(x.len(), true);
+    let surface = {
+        let mut s = layout.from_input(&mesh.positions);
+        s.resize(x.len(), [0.0; 3]);
+        s
+    };
+    let constraint = CircleBoundary {
+        outer: &layout.outer,
+        holes: &hole_loops,
+        pinned: &pinned,
+        fixed_holes: !config.geometry_update,
+        patches: &patches,
+        region_faces: &layout.region_faces,
+        extension: crate::fem::DirichletSystem::new(x.len(), &layout.region_faces, &held)?,
+        relaxation: beltrami::Relaxation::new(&surface, &layout.region_faces, &held)?,
+    };
+    let problem = Problem {
+        faces: &faces,
+        population: filled_population,
+        n_roi_vertices: layout.n_region_vertices,
+        n_roi_faces: layout.region_faces.len(),
+        constraint: &constraint,
+        dt: config.dt,
+        epsilon: COARSE_EPSILON,
+        max_iter: COARSE_MAX_ITER,
+        patience: 5,
+    };
+    let coarse = planar_diffusion::run(&problem, x, progress)?;
+    let mut x = coarse.positions;
+
+    // The rims were laid out by the hole fillings: their faces get their share of the area
+    // first (only their own vertices move), then the DEQ energy over the region and the rims.
+    let rim_faces: Vec<[u32; 3]> = layout
+        .holes
+        .iter()
+        .flat_map(|h| h.rim_faces.clone())
+        .collect();
+    if !rim_faces.is_empty() {
+        let rim_population: Vec<f64> = layout
+            .holes
+            .iter()
+            .flat_map(|h| h.rim_face_input.iter().map(|&f| population[f]))
+            .collect();
+        let region_area: f64 = face_areas(&x, &layout.region_faces).iter().sum();
+        let region_population: f64 = layout
+            .region_face_input
+            .iter()
+            .map(|&f| population[f])
+            .sum();
+        let region_vertices: Vec<u32> = (0..layout.n_region_vertices as u32).collect();
+        newton::minimize(
+            &newton::Problem {
+                surface: &surface,
+                faces: &rim_faces,
+                population: &rim_population,
+                outer: &[],
+                holes: &[],
+                pinned: &region_vertices,
+                fixed_holes: true,
+                alpha: config.alpha,
+                misfit: energy::Misfit::Square,
+                max_iterations: config.max_iter,
+                tolerance: config.epsilon,
+                area_per_population: Some(region_area / region_population),
+            },
+            &mut x,
+        )?;
+    }
+    let mut energy_faces = layout.region_faces.clone();
+    let mut energy_population: Vec<f64> = layout
+        .region_face_input
+        .iter()
+        .map(|&f| population[f])
+        .collect();
+    for h in &layout.holes {
+        energy_faces.extend_from_slice(&h.rim_faces);
+        energy_population.extend(h.rim_face_input.iter().map(|&f| population[f]));
+    }
+    // Far from equal densities Newton's method does better on (log ρ̃)² (a few triangles
+    // crushed by the iteration are reopened in a few steps), near them the energy is (ρ̃ − 1)²,
+    // what Var(ρ̃) measures, with the distortion term.
+    let stage = |misfit, alpha, max_iterations, tolerance| newton::Problem {
+        surface: &surface,
+        faces: &energy_faces,
+        population: &energy_population,
+        outer: &layout.outer,
+        holes: &hole_loops,
+        pinned: &pinned,
+        fixed_holes: !config.geometry_update,
+        alpha,
+        misfit,
+        max_iterations,
+        tolerance,
+        area_per_population: None,
+    };
+    newton::minimize(
+        &stage(
+            energy::Misfit::Log,
+            0.0,
+            LOG_STAGE_ITERATIONS,
+            LOG_STAGE_TOLERANCE,
+        ),
+        &mut x,
+    )?;
+    let fine = newton::minimize(
+        &stage(
+            energy::Misfit::Square,
+            config.alpha,
+            config.max_iter,
+            config.epsilon,
+        ),
+        &mut x,
+    )?;
+    let positions = layout.to_input(&x[..n_surface]);
+    let mut history = coarse.history;
+    history.extend(&fine.history);
+    let mut converged = fine.converged;
+    let mut stop_reason = if fine.converged {
+        StopReason::Tolerance
+    } else {
+        StopReason::MaxIter
+    };
+    if !missed.is_empty() {
+        converged = false;
+        stop_reason = StopReason::MaxIter;
+        let list: Vec<String> = missed
+            .iter()
+            .map(|(k, v)| format!("{} (vertex {v})", k + 1))
+            .collect();
+        notes.push(format!(
+            "landmarks {} could not reach their targets without folding the map",
+            list.join(", ")
+        ));
+    }
+    Ok(MapResult {
+        flat_torus: None,
+        method,
+        positions,
+        initial,
+        converged,
+        stop_reason,
+        iterations: coarse.iterations + fine.iterations,
+        history,
+        time_init,
+        time_map: t1.elapsed().as_secs_f64(),
+        notes,
+    })
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::generate::annulus;
+    use crate::metrics::{Domain, compute};
+    use circles::Circle;
+
+    /// The four-quadrant population of the DEQ paper's Fig. 6: density 4, 1, 2, 3 by quadrant.
+    pub(crate) fn quadrant_population(mesh: &TriMesh) -> Vec<f64> {
+        let areas = face_areas(&mesh.positions, &mesh.faces);
+        mesh.faces
+            .iter()
+            .zip(&areas)
+            .map(|(f, a)| {
+                let c = f.iter().fold([0.0; 2], |s, &v| {
+                    let p = mesh.positions[v as usize];
+                    [s[0] + p[0] / 3.0, s[1] + p[1] / 3.0]
+                });
+                a * match (c[0] > 0.0, c[1] > 0.0) {
+                    (true, true) => 4.0,
+                    (false, true) => 1.0,
+                    (false, false) => 2.0,
+                    (true, false) => 3.0,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn annulus_with_four_quadrants_equalizes_bijectively() {
+        let mesh = annulus(0.4, 1.0, 12, 96).unwrap();
+        let pop = quadrant_population(&mesh);
+        let r = run(&mesh, &pop, &Config::default(), &mut |_| {}).unwrap();
+        let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Plane, None);
+        assert_eq!(m.flipped_triangles, 0);
+        assert!(r.converged);
+        assert!(
+            m.face_density_var_final < 0.05,
+            "{}",
+            m.face_density_var_final
+        );
+        assert!(m.mean_abs_mu < 0.2, "{}", m.mean_abs_mu);
+    }
+
+    #[test]
+    fn without_geometry_update_the_holes_keep_their_initial_circles() {
+        let mesh =
+            crate::generate::disk_with_holes(&[(0.3, 0.0, 0.25), (-0.4, 0.2, 0.15)], 40).unwrap();
+        let pop: Vec<f64> = face_areas(&mesh.positions, &mesh.faces)
+            .iter()
+            .zip(&mesh.faces)
+            .map(|(a, f)| a * (1.0 + (mesh.positions[f[0] as usize][1] > 0.0) as u8 as f64))
+            .collect();
+        let config = Config {
+            geometry_update: false,
+            ..Config::default()
+        };
+        let r = run(&mesh, &pop, &config, &mut |_| {}).unwrap();
+        let loops = circle_input(&mesh, &pop, "deq").unwrap();
+        for lp in &loops[1..] {
+            let (before, after) = (Circle::fit(&r.initial, lp), Circle::fit(&r.positions, lp));
+            assert!((before.center[0] - after.center[0]).abs() < 1e-9);
+            assert!((before.center[1] - after.center[1]).abs() < 1e-9);
+            assert!((before.radius - after.radius).abs() < 1e-9);
+        }
+        // With the geometry update the holes move.
+        let moved = run(&mesh, &pop, &Config::default(), &mut |_| {}).unwrap();
+        let lp = &loops[1];
+        let (a, b) = (
+            Circle::fit(&moved.initial, lp),
+            Circle::fit(&moved.positions, lp),
+        );
+        assert!(
+            (a.center[0] - b.center[0]).hypot(a.center[1] - b.center[1])
+                + (a.radius - b.radius).abs()
+                > 1e-3
+        );
+    }
+}
