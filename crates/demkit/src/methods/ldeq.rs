@@ -1,8 +1,8 @@
 //! LDEQ: landmark-matching DEQ (Lyu, Choi & Lui 2024, model (4.7)–(4.10)). As DEQ, with
-//! interior landmarks `p_i` sent exactly to planar targets `q_i` inside the unit disk: right
-//! after the initial map the landmarks travel to their targets without folding the map, then
-//! they stay pinned through the density-equalizing iteration and the energy's minimisation
-//! (see `deq`). A landmark that cannot reach its target bijectively (for instance one whose
+//! interior landmarks `p_i` sent exactly to planar targets `q_i` inside the unit disk: the
+//! landmarks travel to their targets during the density-equalizing iteration, each carrying a
+//! smooth bump of the map so that nothing folds, then stay pinned through the energy's
+//! minimisation (see `deq`). A landmark that cannot reach its target bijectively (for instance one whose
 //! target lies in a hole) is reported, and the run does not count as converged.
 
 use super::deq::{self, circle_domain_map, circle_input};

@@ -100,22 +100,20 @@ fn fit_motion(c: &Circle, x: &[[f64; 3]], lp: &[u32], step: &[[f64; 2]]) -> ([f6
 }
 
 /// The circle domain's boundary as a constraint of the planar diffusion: outer-loop vertices
-/// slide on the unit circle, hole loops move as circles (or keep them, `fixed_holes`), pinned
-/// vertices (landmarks) stay. The correction this makes to the free displacement of those
-/// vertices is carried into the region by its harmonic extension (cotangent weights of the
+/// slide on the unit circle, hole loops move as circles (or keep them, `fixed_holes`). The
+/// correction this makes to the free displacement of the loops is carried into the region by its harmonic extension (cotangent weights of the
 /// current map, which move a locally affine correction affinely), so the triangles next to a
 /// loop move with it instead of being crushed against it. After every move the hole fillings
 /// are laid out again and the map is relaxed towards conformality ([`Relaxation`]).
 pub(crate) struct CircleBoundary<'a> {
     pub outer: &'a [u32],
     pub holes: &'a [Vec<u32>],
-    pub pinned: &'a [u32],
     pub fixed_holes: bool,
     pub patches: &'a [Patch],
     /// The region's faces (they come first in the diffusion's faces; only they limit a step,
     /// the fillings are rebuilt, not moved).
     pub region_faces: &'a [[u32; 3]],
-    /// The region's Laplacian with every loop and pinned vertex fixed.
+    /// The region's Laplacian with every loop vertex fixed.
     pub extension: DirichletSystem,
     pub relaxation: Relaxation,
 }
@@ -142,16 +140,8 @@ impl Constraint for CircleBoundary<'_> {
                 ];
             }
         }
-        for &v in self.pinned {
-            step[v as usize] = [0.0, 0.0];
-        }
         let mut correction = vec![[0.0; 3]; r.len()];
-        for &v in self
-            .outer
-            .iter()
-            .chain(self.holes.iter().flatten())
-            .chain(self.pinned)
-        {
+        for &v in self.outer.iter().chain(self.holes.iter().flatten()) {
             let (a, b) = (step[v as usize], free[v as usize]);
             correction[v as usize] = [a[0] - b[0], a[1] - b[1], 0.0];
         }

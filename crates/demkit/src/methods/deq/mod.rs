@@ -8,15 +8,16 @@
 //!    outside its circles, are laid inside their holes.
 //! 2. **Initial map** ([`initial`], [`rounding`]): the holes filled with fans, the filled disk
 //!    embedded with positive weights and the outer loop on the unit circle, then every hole
-//!    made round without folding the map; LDEQ's landmarks are then carried to their targets
-//!    the same way.
+//!    made round without folding the map.
 //! 3. **Density-equalizing iteration**: each hole is filled with a triangulated disk carrying
 //!    the hole's share of the population ([`patch`]), and the DEM paper's diffusion iteration
 //!    runs on the filled disk (`planar_diffusion`), the outer loop sliding on the unit circle,
 //!    each hole moving as a circle — translated, scaled, its vertices sliding along it: the GM
 //!    step's domain alteration — ([`circles`]), a Beltrami relaxation after every move
-//!    ([`beltrami`]), every step short enough that no triangle flips. It stops once the
-//!    density is roughly equal (sd/mean of the vertex density below [`COARSE_EPSILON`]).
+//!    ([`beltrami`]), every step short enough that no triangle flips; LDEQ's landmarks head
+//!    for their targets all along, each carrying a smooth bump of the map ([`landmarks`]). It
+//!    stops once the density is roughly equal (sd/mean of the vertex density below
+//!    [`COARSE_EPSILON`]); landmarks still on their way are then carried the rest of it.
 //! 4. **DEQ energy** ([`energy`]): the energy (4.2) in its per-face form, density misfit plus
 //!    α times the Beltrami coefficient, minimised by projected Newton over circle domain maps
 //!    (landmarks pinned), every step bijective; it stops when an iteration lowers the energy
@@ -26,6 +27,7 @@ mod beltrami;
 mod circles;
 mod energy;
 mod initial;
+mod landmarks;
 mod layout;
 mod newton;
 mod parameters;
@@ -54,6 +56,15 @@ const COARSE_MAX_ITER: usize = 300;
 /// fourth step).
 const LOG_STAGE_ITERATIONS: usize = 30;
 const LOG_STAGE_TOLERANCE: f64 = 1e-2;
+
+/// LDEQ: each leg of the landmarks' way ([`landmarks`]) is followed by at most this many
+/// Newton iterations with the landmarks pinned, ...
+const LEG_ITERATIONS: usize = 3;
+
+/// ... over at most this many legs; a leg the map cannot take is halved, down to this share of
+/// its length.
+const MAX_LANDMARK_LEGS: usize = 100;
+const MIN_LEG_SCALE: f64 = 1.0 / 64.0;
 
 /// DEQ parameters.
 #[derive(Debug, Clone, PartialEq)]
@@ -184,28 +195,11 @@ pub(crate) fn circle_domain_map(
             "a hole of the initial map could not be made round without folding the map".into(),
         ));
     }
-    // LDEQ: the landmarks go to their targets.
     let pinned: Vec<u32> = landmarks
         .iter()
         .map(|&(v, _)| layout.working_vertex[v])
         .collect();
-    let mut missed = Vec::new();
-    if !landmarks.is_empty() {
-        let targets: Vec<(u32, [f64; 2])> = pinned
-            .iter()
-            .zip(landmarks)
-            .map(|(&w, &(_, q))| (w, q))
-            .collect();
-        rounding::move_vertices(&layout.region_faces, &mut x, &held, &targets)?;
-        for (k, (&w, &(v, q))) in pinned.iter().zip(landmarks).enumerate() {
-            if x[w as usize][0] != q[0] || x[w as usize][1] != q[1] {
-                missed.push((k, v));
-            }
-        }
-        for &w in &pinned {
-            held[w as usize] = true;
-        }
-    }
+    let landmark_targets: Vec<[f64; 2]> = landmarks.iter().map(|l| l.1).collect();
 
     // The hole fillings and the populations of the filled disk.
     let mut patches = Vec::with_capacity(circles.len());
@@ -250,7 +244,6 @@ pub(crate) fn circle_domain_map(
     let constraint = CircleBoundary {
         outer: &layout.outer,
         holes: &hole_loops,
-        pinned: &pinned,
         fixed_holes: !config.geometry_update,
         patches: &patches,
         region_faces: &layout.region_faces,
@@ -322,13 +315,13 @@ pub(crate) fn circle_domain_map(
     // Far from equal densities Newton's method does better on (log ρ̃)² (a few triangles
     // crushed by the iteration are reopened in a few steps), near them the energy is (ρ̃ − 1)²,
     // what Var(ρ̃) measures, with the distortion term.
-    let stage = |misfit, alpha, max_iterations, tolerance| newton::Problem {
+    let stage = |misfit, alpha, max_iterations, tolerance, pinned| newton::Problem {
         surface: &surface,
         faces: &energy_faces,
         population: &energy_population,
         outer: &layout.outer,
         holes: &hole_loops,
-        pinned: &pinned,
+        pinned,
         fixed_holes: !config.geometry_update,
         alpha,
         misfit,
@@ -342,18 +335,90 @@ pub(crate) fn circle_domain_map(
             0.0,
             LOG_STAGE_ITERATIONS,
             LOG_STAGE_TOLERANCE,
+            &[],
         ),
         &mut x,
     )?;
-    let fine = newton::minimize(
+    let mut fine = newton::minimize(
         &stage(
             energy::Misfit::Square,
             config.alpha,
             config.max_iter,
             config.epsilon,
+            &[],
         ),
         &mut x,
     )?;
+    // LDEQ: from DEQ's map the landmarks are led to their targets by short moves, each
+    // followed by a few Newton steps with them pinned, which spread out the squeeze the move
+    // made; once there, the energy is minimised with them pinned.
+    let mut missed = Vec::new();
+    if !landmarks.is_empty() {
+        let mut movable = vec![false; x.len()];
+        for (v, m) in movable
+            .iter_mut()
+            .enumerate()
+            .take(layout.n_region_vertices)
+        {
+            *m = !held[v];
+        }
+        let blocked: Vec<bool> = movable.iter().map(|m| !m).collect();
+        // A leg the map cannot take is tried again shorter, down to MIN_LEG_SCALE.
+        let mut scale = 1.0;
+        for _ in 0..MAX_LANDMARK_LEGS {
+            let clearances = landmarks::clearances(&x, &blocked, &pinned);
+            let legs: Vec<[f64; 2]> = pinned
+                .iter()
+                .zip(&landmark_targets)
+                .zip(&clearances)
+                .map(|((&v, q), &rho)| landmarks::next_leg(x[v as usize], *q, scale * rho))
+                .collect();
+            let movers = landmarks::disk_movers(&x, &movable, &pinned, &clearances, &legs);
+            if !rounding::move_vertices(&layout.region_faces, &mut x, &held, &movers)? {
+                scale *= 0.5;
+                if scale < MIN_LEG_SCALE {
+                    break;
+                }
+            }
+            let polish = newton::minimize(
+                &stage(
+                    energy::Misfit::Square,
+                    config.alpha,
+                    LEG_ITERATIONS,
+                    config.epsilon,
+                    &pinned,
+                ),
+                &mut x,
+            )?;
+            fine.iterations += polish.iterations;
+            fine.history.extend(&polish.history);
+            let there = pinned
+                .iter()
+                .zip(&landmark_targets)
+                .all(|(&v, q)| x[v as usize][0] == q[0] && x[v as usize][1] == q[1]);
+            if there {
+                break;
+            }
+        }
+        for (k, (&w, &(v, q))) in pinned.iter().zip(landmarks).enumerate() {
+            if x[w as usize][0] != q[0] || x[w as usize][1] != q[1] {
+                missed.push((k, v));
+            }
+        }
+        let last = newton::minimize(
+            &stage(
+                energy::Misfit::Square,
+                config.alpha,
+                config.max_iter,
+                config.epsilon,
+                &pinned,
+            ),
+            &mut x,
+        )?;
+        fine.iterations += last.iterations;
+        fine.history.extend(&last.history);
+        fine.converged = last.converged;
+    }
     let positions = layout.to_input(&x[..n_surface]);
     let mut history = coarse.history;
     history.extend(&fine.history);
