@@ -18,14 +18,9 @@ pub fn generalized_laplacian_weights(
     faces: &[[u32; 3]],
     mu: &[Complex64],
 ) -> Vec<[f64; 3]> {
-    faces
-        .par_iter()
-        .zip(mu.par_iter())
-        .map(|(f, m)| {
-            let p = f.map(|v| [source[v as usize][0], source[v as usize][1]]);
-            triangle_weights(p, *m)
-        })
-        .collect()
+    per_face_weights(faces, mu, |f| {
+        f.map(|v| [source[v as usize][0], source[v as usize][1]])
+    })
 }
 
 /// [`generalized_laplacian_weights`] for a source surface in R³: every triangle in its own
@@ -37,10 +32,19 @@ pub fn surface_laplacian_weights(
     faces: &[[u32; 3]],
     mu: &[Complex64],
 ) -> Vec<[f64; 3]> {
+    per_face_weights(faces, mu, |f| local_frame(f.map(|v| surface[v as usize])))
+}
+
+/// [`triangle_weights`] of every face, its corners in the plane given by `corners`.
+fn per_face_weights(
+    faces: &[[u32; 3]],
+    mu: &[Complex64],
+    corners: impl Fn(&[u32; 3]) -> [[f64; 2]; 3] + Sync,
+) -> Vec<[f64; 3]> {
     faces
         .par_iter()
         .zip(mu.par_iter())
-        .map(|(f, m)| triangle_weights(local_frame(f.map(|v| surface[v as usize])), *m))
+        .map(|(f, m)| triangle_weights(corners(f), *m))
         .collect()
 }
 

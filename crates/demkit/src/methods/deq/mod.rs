@@ -374,13 +374,16 @@ pub(crate) fn circle_domain_map(
                 .map(|((&v, q), &rho)| landmarks::next_leg(x[v as usize], *q, scale * rho))
                 .collect();
             let movers = landmarks::disk_movers(&x, &movable, &pinned, &clearances, &legs);
+            // Where the way is blocked a leg can leave the map with nothing left to improve:
+            // the last good map is kept and the landmarks stop there.
+            let before_leg = x.clone();
             if !rounding::move_vertices(&layout.region_faces, &mut x, &held, &movers)? {
                 scale *= 0.5;
                 if scale < MIN_LEG_SCALE {
                     break;
                 }
             }
-            let polish = newton::minimize(
+            let Ok(polish) = newton::minimize(
                 &stage(
                     energy::Misfit::Square,
                     config.alpha,
@@ -389,7 +392,10 @@ pub(crate) fn circle_domain_map(
                     &pinned,
                 ),
                 &mut x,
-            )?;
+            ) else {
+                x = before_leg;
+                break;
+            };
             fine.iterations += polish.iterations;
             fine.history.extend(&polish.history);
             let there = pinned

@@ -1,0 +1,165 @@
+//! Surfaces with holes made for the DEQ tests: holes cut into a mesh around chosen points, with
+//! the jagged, ear-ridden loops real cut-outs have.
+
+use demkit::TriMesh;
+use std::collections::HashMap;
+
+/// `mesh` with every face removed whose centroid lies within `r` of a hole's centre `c`
+/// (distance in the plane z = 0 when `planar`), then cleaned into a manifold surface: faces at a
+/// vertex where two holes touch are removed too, and only the largest edge-connected piece is
+/// kept. Vertices no face uses are dropped.
+pub fn cut_holes(mesh: &TriMesh, holes: &[([f64; 3], f64)], planar: bool) -> TriMesh {
+    let centroid = |f: &[u32; 3]| {
+        let p = f.map(|v| mesh.positions[v as usize]);
+        [0, 1, 2].map(|k| (p[0][k] + p[1][k] + p[2][k]) / 3.0)
+    };
+    let dist = |a: [f64; 3], b: [f64; 3]| {
+        let d = [
+            a[0] - b[0],
+            a[1] - b[1],
+            if planar { 0.0 } else { a[2] - b[2] },
+        ];
+        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+    };
+    let mut faces: Vec<[u32; 3]> = mesh
+        .faces
+        .iter()
+        .filter(|f| holes.iter().all(|&(c, r)| dist(centroid(f), c) > r))
+        .copied()
+        .collect();
+    loop {
+        let mut boundary_degree: HashMap<u32, usize> = HashMap::new();
+        for (a, b) in boundary_edges(&faces) {
+            *boundary_degree.entry(a).or_default() += 1;
+            *boundary_degree.entry(b).or_default() += 1;
+        }
+        let pinched: Vec<u32> = boundary_degree
+            .into_iter()
+            .filter(|&(_, d)| d > 2)
+            .map(|(v, _)| v)
+            .collect();
+        if pinched.is_empty() {
+            break;
+        }
+        faces.retain(|f| !f.iter().any(|v| pinched.contains(v)));
+    }
+    let faces = largest_piece(&faces);
+    let mut index = vec![u32::MAX; mesh.n_vertices()];
+    let mut positions = Vec::new();
+    let faces: Vec<[u32; 3]> = faces
+        .iter()
+        .map(|f| {
+            f.map(|v| {
+                if index[v as usize] == u32::MAX {
+                    index[v as usize] = positions.len() as u32;
+                    positions.push(mesh.positions[v as usize]);
+                }
+                index[v as usize]
+            })
+        })
+        .collect();
+    TriMesh::new(positions, faces)
+}
+
+/// `k` hole centres on `mesh`, drawn from its face centroids by a fixed `seed`, each at least
+/// `2.5 r` from the boundary and `3.5 r` from the others, with `r` the given share of the
+/// bounding box's diagonal.
+pub fn random_holes(mesh: &TriMesh, k: usize, seed: u64, share: f64) -> Vec<([f64; 3], f64)> {
+    let (lo, hi) = mesh.positions.iter().fold(
+        ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+        |(lo, hi), p| {
+            (
+                [0, 1, 2].map(|i| lo[i].min(p[i])),
+                [0, 1, 2].map(|i| hi[i].max(p[i])),
+            )
+        },
+    );
+    let r = share * (0..3).map(|i| (hi[i] - lo[i]).powi(2)).sum::<f64>().sqrt();
+    let boundary: Vec<[f64; 3]> = boundary_edges(&mesh.faces)
+        .into_iter()
+        .map(|(a, _)| mesh.positions[a as usize])
+        .collect();
+    let d = |a: [f64; 3], b: [f64; 3]| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt();
+    let mut state = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    let mut holes: Vec<([f64; 3], f64)> = Vec::new();
+    for _ in 0..100_000 {
+        if holes.len() == k {
+            break;
+        }
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let f = mesh.faces[(state >> 33) as usize % mesh.faces.len()];
+        let p = f.map(|v| mesh.positions[v as usize]);
+        let c = [0, 1, 2].map(|i| (p[0][i] + p[1][i] + p[2][i]) / 3.0);
+        if boundary.iter().all(|&b| d(b, c) > 2.5 * r) && holes.iter().all(|h| d(h.0, c) > 3.5 * r)
+        {
+            holes.push((c, r));
+        }
+    }
+    assert_eq!(holes.len(), k, "room for only {} holes", holes.len());
+    holes
+}
+
+/// The edges used by one face only.
+fn boundary_edges(faces: &[[u32; 3]]) -> Vec<(u32, u32)> {
+    let mut count: HashMap<(u32, u32), usize> = HashMap::new();
+    for f in faces {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let mut edges: Vec<(u32, u32)> = count
+        .into_iter()
+        .filter(|&(_, c)| c == 1)
+        .map(|(e, _)| e)
+        .collect();
+    edges.sort_unstable();
+    edges
+}
+
+/// The faces of the largest piece joined across edges.
+fn largest_piece(faces: &[[u32; 3]]) -> Vec<[u32; 3]> {
+    let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    for (i, f) in faces.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            by_edge.entry((a.min(b), a.max(b))).or_default().push(i);
+        }
+    }
+    let mut piece = vec![usize::MAX; faces.len()];
+    let mut sizes = Vec::new();
+    for start in 0..faces.len() {
+        if piece[start] != usize::MAX {
+            continue;
+        }
+        let id = sizes.len();
+        let mut stack = vec![start];
+        piece[start] = id;
+        let mut size = 0;
+        while let Some(i) = stack.pop() {
+            size += 1;
+            let f = faces[i];
+            for k in 0..3 {
+                let (a, b) = (f[k], f[(k + 1) % 3]);
+                for &j in &by_edge[&(a.min(b), a.max(b))] {
+                    if piece[j] == usize::MAX {
+                        piece[j] = id;
+                        stack.push(j);
+                    }
+                }
+            }
+        }
+        sizes.push(size);
+    }
+    let best = (0..sizes.len()).max_by_key(|&i| sizes[i]).unwrap_or(0);
+    faces
+        .iter()
+        .zip(&piece)
+        .filter(|&(_, &p)| p == best)
+        .map(|(f, _)| *f)
+        .collect()
+}
