@@ -60,6 +60,14 @@ pub fn run(a: &CartogramArgs) -> Result<u8, Failure> {
     if a.max_iter == Some(0) {
         return Err(Failure::input("--max-iter must be at least 1"));
     }
+    crate::paths::check(
+        &crate::paths::given(&[("REGIONS", Some(&a.regions))]),
+        &crate::paths::given(&[
+            ("--out", Some(&a.out)),
+            ("--svg", a.svg.as_ref()),
+            ("--report", a.report.as_ref()),
+        ]),
+    )?;
     let (fc, set) = cartogram::load(&a.regions, &a.value, a.sphere)?;
     let config = Config {
         max_iter: a.max_iter,
@@ -148,5 +156,6 @@ fn report(c: &Cartogram, sphere: bool, converged: bool, total: f64) -> Report {
 }
 
 fn write(path: &Path, text: String) -> Result<(), Failure> {
-    std::fs::write(path, text).map_err(|e| Failure::input(format!("{}: {e}", path.display())))
+    demkit::io::write_bytes_atomically(path, text.as_bytes())
+        .map_err(|e| Failure::input(format!("{}: {e}", path.display())))
 }

@@ -11,6 +11,7 @@ pub fn run(a: &GenerateArgs) -> Result<u8, Failure> {
         .as_ref()
         .ok_or_else(|| Failure::input("generate needs --out FILE (.obj or .ply)"))?;
     crate::map::check_output_extension(out)?;
+    crate::paths::check(&[], &[crate::paths::named("--out", out)])?;
     let mesh = match &a.kind {
         GenerateKind::Grid {
             nx,

@@ -8,6 +8,7 @@ mod cartogram;
 mod generate;
 mod info;
 mod map;
+mod paths;
 mod progress;
 mod register;
 mod remesh;

@@ -199,6 +199,17 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         check_uv_extension(uv)?;
     }
     crate::render::check_map_args(a)?;
+    let (population, landmarks) = crate::paths::method_inputs(&a.m);
+    crate::paths::check(
+        &crate::paths::mesh_inputs(&a.mesh, &population, &landmarks),
+        &crate::paths::given(&[
+            ("--out", Some(&a.out)),
+            ("--uv-out", a.uv_out.as_ref()),
+            ("--render", a.render.as_ref()),
+            ("--histogram", a.histogram.as_ref()),
+            ("--report", a.report.as_ref()),
+        ]),
+    )?;
     let mesh = read_valid_mesh(&a.mesh, a.quiet)?;
     let topo = topology(&mesh);
     let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;

@@ -56,6 +56,15 @@ impl MapSummary {
 pub fn run(a: &RegisterArgs) -> Result<u8, Failure> {
     let t0 = Instant::now();
     check_output_extension(&a.out)?;
+    crate::paths::check(
+        &crate::paths::given(&[
+            ("A", Some(&a.a)),
+            ("B", Some(&a.b)),
+            ("--landmarks-a", Some(&a.landmarks_a)),
+            ("--landmarks-b", Some(&a.landmarks_b)),
+        ]),
+        &crate::paths::given(&[("--out", Some(&a.out)), ("--report", a.report.as_ref())]),
+    )?;
     let mesh_a = read_valid_mesh(&a.a, a.quiet)?;
     let mesh_b = read_valid_mesh(&a.b, a.quiet)?;
     let la = demkit::io::landmarks::read_landmark_vertices(&a.landmarks_a, mesh_a.n_vertices())?;

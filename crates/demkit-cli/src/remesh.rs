@@ -63,6 +63,11 @@ struct Times {
 pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
     let t0 = Instant::now();
     check_output_extension(&a.out)?;
+    let (population, landmarks) = crate::paths::method_inputs(&a.m);
+    crate::paths::check(
+        &crate::paths::mesh_inputs(&a.mesh, &population, &landmarks),
+        &crate::paths::given(&[("--out", Some(&a.out)), ("--report", a.report.as_ref())]),
+    )?;
     let mesh = read_valid_mesh(&a.mesh, a.quiet)?;
     let topo = topology(&mesh);
     let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
@@ -152,7 +157,7 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
             code: 1,
             message: e.to_string(),
         })?;
-        std::fs::write(path, text + "\n")
+        demkit::io::write_bytes_atomically(path, (text + "\n").as_bytes())
             .map_err(|e| Failure::input(format!("{}: {e}", path.display())))?;
     }
     if !a.quiet {

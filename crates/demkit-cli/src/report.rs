@@ -79,6 +79,6 @@ pub fn write_json(path: &Path, report: &impl Serialize) -> Result<(), Failure> {
         code: 1,
         message: e.to_string(),
     })?;
-    std::fs::write(path, text + "\n")
+    demkit::io::write_bytes_atomically(path, (text + "\n").as_bytes())
         .map_err(|e| Failure::input(format!("{}: {e}", path.display())))
 }

@@ -88,6 +88,10 @@ pub fn run(a: &RenderArgs) -> Result<u8, Failure> {
     check_png_extension(&a.out)?;
     let view = parse_view(a.picture.view.as_deref())?;
     let size = check_size(a.picture.size)?;
+    crate::paths::check(
+        &crate::paths::given(&[("MESH", Some(&a.mesh)), ("--color", a.color.as_ref())]),
+        &crate::paths::given(&[("--out", Some(&a.out))]),
+    )?;
     let mesh = crate::map::read_valid_mesh(&a.mesh, a.quiet)?;
     let colors = match &a.color {
         Some(path) => value_colors(&read_face_values(path, mesh.n_faces())?),
@@ -196,7 +200,7 @@ fn write_png(path: &Path, pixmap: Option<Pixmap>) -> Result<(), Failure> {
     };
     let pixmap = pixmap.ok_or_else(|| internal("no picture".into()))?;
     let bytes = pixmap.encode_png().map_err(|e| internal(e.to_string()))?;
-    std::fs::write(path, bytes)
+    demkit::io::write_bytes_atomically(path, &bytes)
         .map_err(|e| Failure::input(format!("cannot write '{}': {e}", path.display())))
 }
 

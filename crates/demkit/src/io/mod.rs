@@ -5,16 +5,17 @@
 //! whole). They check that indices are in range and coordinates finite, but not the topology:
 //! that is [`fn@crate::mesh::validate`]'s job.
 
+pub mod atomic;
 pub mod landmarks;
 pub mod obj;
 pub mod off;
 pub mod ply;
 pub mod stl;
 
+pub use atomic::{write_atomically, write_bytes_atomically};
 pub use landmarks::{Landmark, read_landmarks};
 
 use crate::{Error, Result, TriMesh};
-use std::io::BufWriter;
 use std::path::Path;
 
 /// Mesh file extensions [`read_mesh`] understands (compared case-insensitively).
@@ -48,24 +49,25 @@ pub fn read_mesh(path: &Path) -> Result<TriMesh> {
 /// (binary little-endian, double coordinates, int indices), chosen by the extension
 /// (case-insensitive).
 ///
+/// The file is written atomically ([`atomic`]): a failure leaves no partial file and an older
+/// file of that name intact.
+///
 /// Errors: another extension ([`Error::Format`], before anything is created), or a failure to
 /// create or write the file ([`Error::Io`]).
 pub fn write_mesh(path: &Path, mesh: &TriMesh) -> Result<()> {
     let ext = extension(path, WRITE_EXTENSIONS, "output")?;
-    let io_error = |source| Error::Io {
+    write_atomically(path, |w| match ext.as_str() {
+        "obj" => obj::write_obj(w, mesh),
+        _ => ply::write_ply(w, mesh),
+    })
+    .map_err(|source| Error::Io {
         path: path_label(path),
         source,
-    };
-    let file = std::fs::File::create(path).map_err(io_error)?;
-    let writer = BufWriter::with_capacity(1 << 20, file);
-    match ext.as_str() {
-        "obj" => obj::write_obj(writer, mesh),
-        _ => ply::write_ply(writer, mesh),
-    }
-    .map_err(io_error)
+    })
 }
 
-/// Writes `mesh` as `.obj` with texture coordinates (`vt` lines and `f a/ta b/tb c/tc`).
+/// Writes `mesh` as `.obj` with texture coordinates (`vt` lines and `f a/ta b/tb c/tc`),
+/// atomically.
 ///
 /// Errors: another extension than `.obj` ([`Error::Format`], before anything is created), or a
 /// failure to create or write the file ([`Error::Io`]).
@@ -75,13 +77,12 @@ pub fn write_textured_obj(
     texture: &obj::TextureCoordinates,
 ) -> Result<()> {
     extension(path, &["obj"], "texture output")?;
-    let io_error = |source| Error::Io {
-        path: path_label(path),
-        source,
-    };
-    let file = std::fs::File::create(path).map_err(io_error)?;
-    obj::write_obj_textured(BufWriter::with_capacity(1 << 20, file), mesh, Some(texture))
-        .map_err(io_error)
+    write_atomically(path, |w| obj::write_obj_textured(w, mesh, Some(texture))).map_err(|source| {
+        Error::Io {
+            path: path_label(path),
+            source,
+        }
+    })
 }
 
 /// The lower-cased extension of `path` if it is one of `supported`, else [`Error::Format`].
