@@ -82,10 +82,11 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
         )));
     }
 
-    let c = compute(&mesh, method, &a.m, a.quiet)?;
+    let mut c = compute(&mesh, method, &a.m, a.quiet)?;
+    let metrics = c.metrics(&mesh);
+    c.judge(&metrics, a.m.dt);
     let result = &c.result;
     let t_map = t0.elapsed().as_secs_f64();
-    let metrics = c.metrics(&mesh);
     if metrics.flipped_triangles > 0 {
         eprintln!(
             "error: the {} map has {} flipped triangles; the inverse map is not defined there, so the surface cannot be remeshed through it",

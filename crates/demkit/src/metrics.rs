@@ -85,6 +85,26 @@ pub fn map_areas(map: &[[f64; 3]], faces: &[[u32; 3]], domain: Domain) -> (Vec<f
     }
 }
 
+/// A run counts as having equalized nothing when its face-density variance fell by less than
+/// this share of the initial one ...
+pub const MIN_PROGRESS: f64 = 0.1;
+
+/// ... unless the initial variance was already below this (nothing to equalize).
+pub const ALREADY_EQUAL: f64 = 1e-2;
+
+/// Why a map that its method reports as converged did not equalize the density: the
+/// face-density variance fell by less than [`MIN_PROGRESS`] of the way to zero from an initial
+/// variance above [`ALREADY_EQUAL`]. `None` when the map moved.
+pub fn barely_moved(m: &Metrics) -> Option<String> {
+    let (v0, v1) = (m.face_density_var_initial, m.face_density_var_final);
+    if !(v0 > ALREADY_EQUAL) || v0 - v1 >= MIN_PROGRESS * v0 {
+        return None;
+    }
+    Some(format!(
+        "the map barely moved: the face density variance went only from {v0:.4} to {v1:.4}"
+    ))
+}
+
 /// Population variance of `x / mean(x)`.
 pub fn normalized_variance(x: &[f64]) -> f64 {
     if x.is_empty() {

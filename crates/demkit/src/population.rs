@@ -86,6 +86,17 @@ pub fn face_populations(spec: &PopulationSpec, mesh: &TriMesh) -> Result<Vec<f64
     Ok(values)
 }
 
+/// `values` divided by their largest: every method and metric depends on population ratios
+/// only, and at unit scale the sums over a mesh cannot overflow (a population of 1e306 per
+/// face) nor underflow.
+pub fn unit_scale(values: &[f64]) -> Vec<f64> {
+    let max = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if !(max > 0.0 && max.is_finite()) {
+        return values.to_vec();
+    }
+    values.iter().map(|v| v / max).collect()
+}
+
 /// Refuses a population that no method can use: a length other than `n_faces`, an empty mesh,
 /// a value that is NaN or infinite, every value zero, or a value that is zero or negative.
 /// Faces are named by their 0-based index.
@@ -198,6 +209,17 @@ fn triangle_area(c: &[[f64; 3]; 3]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn unit_scale_keeps_ratios_and_avoids_overflow() {
+        let huge = vec![0.5e308, 1.5e308, 1.0e308];
+        let u = unit_scale(&huge);
+        for (a, b) in u.iter().zip([1.0 / 3.0, 1.0, 2.0 / 3.0]) {
+            assert!((a - b).abs() < 1e-15, "{u:?}");
+        }
+        assert!(u.iter().sum::<f64>().is_finite());
+        assert!(huge.iter().sum::<f64>().is_infinite());
+    }
 
     /// Two faces: a right triangle of area 2 in the plane z = 0 with centroid (2/3, 2/3, 0), and
     /// a tilted one, (0,0,0), (1,0,0), (0,1,1), of area sqrt(2)/2 with centroid (1/3, 1/3, 1/3).
