@@ -101,7 +101,7 @@ pub struct MethodArgs {
     #[arg(long)]
     pub shape: Option<String>,
     /// Target torus radii R:r (tdem).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub torus: Option<String>,
     /// Energy weight α (lsdem; deq, ldeq: the weight of mean |μ| against the density).
     #[arg(long)]
@@ -167,8 +167,8 @@ pub struct PictureArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub view: Option<String>,
     /// Picture height in pixels (64 to 4096); histograms are 1.5 times as wide.
-    #[arg(long, default_value_t = 1024)]
-    pub size: usize,
+    #[arg(long, default_value_t = 1024, allow_negative_numbers = true)]
+    pub size: i64,
 }
 
 /// `demkit remesh MESH --out OUT [--vertices N] [method options]`
@@ -295,6 +295,7 @@ pub struct GenerateArgs {
 #[derive(Subcommand, Debug)]
 pub enum GenerateKind {
     /// A planar grid of nx × ny squares, each split into two triangles, on [0,W]×[0,H].
+    #[command(allow_negative_numbers = true)]
     Grid {
         #[arg(long, default_value_t = 99)]
         nx: usize,
@@ -306,6 +307,7 @@ pub enum GenerateKind {
         height: f64,
     },
     /// A regular polygon of circumradius 1 triangulated by concentric rings.
+    #[command(allow_negative_numbers = true)]
     Polygon {
         #[arg(long, default_value_t = 6)]
         sides: usize,
@@ -313,16 +315,19 @@ pub enum GenerateKind {
         rings: usize,
     },
     /// MATLAB's peaks surface on [-3,3]², n × n squares.
+    #[command(allow_negative_numbers = true)]
     Peaks {
         #[arg(long, default_value_t = 45)]
         n: usize,
     },
     /// A Gaussian bump on [0,1]², n × n squares.
+    #[command(allow_negative_numbers = true)]
     Gaussian {
         #[arg(long, default_value_t = 72)]
         n: usize,
     },
     /// A planar annulus.
+    #[command(allow_negative_numbers = true)]
     Annulus {
         #[arg(long, default_value_t = 0.4)]
         inner: f64,
@@ -334,6 +339,7 @@ pub enum GenerateKind {
         angular: usize,
     },
     /// The unit disk minus circular holes, each given as cx:cy:r.
+    #[command(allow_negative_numbers = true)]
     DiskHoles {
         /// A circular hole CX:CY:R; repeat the option for several holes.
         #[arg(long = "hole", value_name = "CX:CY:R", allow_hyphen_values = true)]
@@ -342,6 +348,7 @@ pub enum GenerateKind {
         resolution: usize,
     },
     /// The rectangle [-W/2,W/2]×[-H/2,H/2] minus circular holes, each given as cx:cy:r.
+    #[command(allow_negative_numbers = true)]
     RectHoles {
         #[arg(long, default_value_t = 2.0)]
         width: f64,
@@ -355,11 +362,13 @@ pub enum GenerateKind {
         resolution: usize,
     },
     /// A subdivided icosahedron on the unit sphere.
+    #[command(allow_negative_numbers = true)]
     Icosphere {
         #[arg(long, default_value_t = 4)]
         subdivisions: usize,
     },
     /// A latitude/longitude sphere.
+    #[command(allow_negative_numbers = true)]
     UvSphere {
         #[arg(long, default_value_t = 32)]
         lat: usize,
@@ -367,6 +376,7 @@ pub enum GenerateKind {
         lon: usize,
     },
     /// A torus with radii R > r.
+    #[command(allow_negative_numbers = true)]
     Torus {
         #[arg(long = "R", default_value_t = 2.0)]
         big_r: f64,

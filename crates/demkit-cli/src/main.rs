@@ -74,6 +74,22 @@ pub fn require_extension(
     }
 }
 
+/// clap's message on one line: its first line, and when that ends with a colon (the missing
+/// arguments, the possible values) the indented lines that follow, joined.
+fn one_line(text: &str) -> String {
+    let mut lines = text.lines();
+    let first = lines.next().unwrap_or("invalid arguments").trim();
+    let first = first.strip_prefix("error: ").unwrap_or(first);
+    if !first.ends_with(':') {
+        return first.to_string();
+    }
+    let items: Vec<&str> = lines
+        .take_while(|l| l.starts_with(char::is_whitespace) && !l.trim().is_empty())
+        .map(str::trim)
+        .collect();
+    format!("{} {}", first, items.join(", "))
+}
+
 fn main() -> ExitCode {
     // A bug must never show a panic trace: report it on one line and exit with 1.
     std::panic::set_hook(Box::new(|info| {
@@ -102,10 +118,7 @@ fn main() -> ExitCode {
                 let _ = e.print();
                 return ExitCode::SUCCESS;
             }
-            let text = e.to_string();
-            let first = text.lines().next().unwrap_or("invalid arguments").trim();
-            let first = first.strip_prefix("error: ").unwrap_or(first);
-            eprintln!("error: {first} (see demkit --help)");
+            eprintln!("error: {} (see demkit --help)", one_line(&e.to_string()));
             return ExitCode::from(2);
         }
     };
@@ -125,5 +138,23 @@ fn main() -> ExitCode {
             ExitCode::from(f.code)
         }
         Err(_) => ExitCode::from(1),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clap_lists_are_joined_on_the_error_line() {
+        let text = "error: the following required arguments were not provided:\n  --out <OUT>\n  <MESH>\n\nUsage: demkit map\n";
+        assert_eq!(
+            one_line(text),
+            "the following required arguments were not provided: --out <OUT>, <MESH>"
+        );
+        assert_eq!(
+            one_line("error: unexpected argument 'x' found\n\nUsage: demkit"),
+            "unexpected argument 'x' found"
+        );
     }
 }

@@ -170,12 +170,36 @@ pub fn read_population_file(path: &Path) -> Result<Vec<f64>> {
 }
 
 /// Evaluates a population expression on every face (values unchecked).
+/// True for a `--population` argument that reads like a file name rather than a formula: no
+/// spaces, and a path separator or a final `.ext` of letters.
+fn looks_like_a_file_name(s: &str) -> bool {
+    let s = s.trim();
+    if s.is_empty() || s.contains(char::is_whitespace) {
+        return false;
+    }
+    if s.contains('/') || s.contains('\\') {
+        return true;
+    }
+    match s.rsplit_once('.') {
+        Some((stem, ext)) => {
+            !stem.is_empty() && !ext.is_empty() && ext.chars().all(|c| c.is_ascii_alphabetic())
+        }
+        None => false,
+    }
+}
+
 fn expression_populations(source: &str, mesh: &TriMesh) -> Result<Vec<f64>> {
     let expr = Expr::compile(source, &EXPR_VARIABLES).map_err(|e| {
         let hint = match e.kind {
             ExprErrorKind::UnknownVariable(_) => "; the variables are x, y, z and area",
             _ => "",
         };
+        if looks_like_a_file_name(source) {
+            return Error::Population(format!(
+                "no such population file '{source}', and it is not a valid expression either ({} at column {})",
+                e.kind, e.column
+            ));
+        }
         Error::Population(format!(
             "{} in population expression '{source}' (column {}){hint}",
             e.kind, e.column
@@ -209,6 +233,20 @@ fn triangle_area(c: &[[f64; 3]; 3]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_missing_file_is_named_as_such() {
+        let e = face_populations(&PopulationSpec::parse("pop_typo.txt"), &mesh()).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains("no such population file 'pop_typo.txt'"),
+            "{text}"
+        );
+        assert!(text.contains("not a valid expression"), "{text}");
+        assert!(looks_like_a_file_name("data/pop"));
+        assert!(!looks_like_a_file_name("2.5*area"));
+        assert!(!looks_like_a_file_name("area * 2"));
+    }
 
     #[test]
     fn unit_scale_keeps_ratios_and_avoids_overflow() {

@@ -182,9 +182,9 @@ fn parse_view(s: Option<&str>) -> Result<Option<View>, Failure> {
 }
 
 /// Picture sizes from 64 to 4096 pixels.
-fn check_size(size: usize) -> Result<usize, Failure> {
+fn check_size(size: i64) -> Result<usize, Failure> {
     if (64..=4096).contains(&size) {
-        Ok(size)
+        Ok(size as usize)
     } else {
         Err(Failure::input(format!(
             "--size must be from 64 to 4096 pixels, got {size}"

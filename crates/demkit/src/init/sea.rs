@@ -511,10 +511,21 @@ fn triangulate_ring(
     let edges: Vec<[usize; 2]> = (0..b).map(|k| [k, (k + 1) % b]).collect();
     // Fill and circle points keep away from the boundary by construction, so any coincidence
     // or crossing is the boundary loop's own.
+    if let Some((i, j)) = crate::mesh::triangulate::coincident_pair(bpoly) {
+        return Err(Error::InvalidMesh(format!(
+            "boundary vertices {} and {} are at the same position in the initial map (is one a \
+             duplicate of the other?)",
+            boundary[i], boundary[j]
+        )));
+    }
     let cdt = constrained_delaunay(&points, &edges).map_err(|e| {
+        let detail = match e {
+            Error::InvalidMesh(m) => m,
+            other => other.to_string(),
+        };
         Error::InvalidMesh(format!(
             "the boundary loop of the region of interest is not a simple polygon \
-             (it touches, crosses or repeats itself): {e}"
+             (it touches, crosses or repeats itself): {detail}"
         ))
     })?;
     let next = |k: usize| if k + 1 == b { 0 } else { k + 1 };

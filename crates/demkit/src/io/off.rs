@@ -134,6 +134,13 @@ pub fn parse_off(data: &[u8], path: &str) -> Result<TriMesh> {
         }
         faces.push(face);
     }
+    if let Some((line_no, _)) = lines.next() {
+        return Err(parse_error(
+            path,
+            line_no,
+            format!("data after the {nf} faces the header declares (is the face count wrong?)"),
+        ));
+    }
     if faces.is_empty() {
         return Err(format_error(path, "no faces"));
     }
@@ -144,6 +151,18 @@ pub fn parse_off(data: &[u8], path: &str) -> Result<TriMesh> {
 mod tests {
     use super::*;
     use crate::Error;
+
+    #[test]
+    fn faces_beyond_the_declared_count_are_an_error_naming_their_line() {
+        let text = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 2 1\n";
+        match parse_off(text.as_bytes(), "t.off") {
+            Err(Error::Parse { line, msg, .. }) => {
+                assert_eq!(line, 7, "{msg}");
+                assert!(msg.contains("after the 1 faces"), "{msg}");
+            }
+            other => panic!("{other:?}"),
+        }
+    }
 
     fn square() -> TriMesh {
         TriMesh::new(

@@ -271,6 +271,9 @@ trait Source {
         }
         Ok(())
     }
+    /// Whether anything but whitespace (ascii) or any byte (binary) follows the last element,
+    /// with the line where it starts (ascii).
+    fn trailing(&mut self) -> Option<Option<usize>>;
 }
 
 struct AsciiSource<'a> {
@@ -305,6 +308,17 @@ impl Source for AsciiSource<'_> {
 
     fn line(&self) -> Option<usize> {
         Some(self.token_line)
+    }
+
+    fn trailing(&mut self) -> Option<Option<usize>> {
+        let d = self.data;
+        while self.pos < d.len() && d[self.pos].is_ascii_whitespace() {
+            if d[self.pos] == b'\n' {
+                self.line += 1;
+            }
+            self.pos += 1;
+        }
+        (self.pos < d.len()).then_some(Some(self.line))
     }
 }
 
@@ -347,6 +361,10 @@ impl Source for BinarySource<'_> {
 
     fn line(&self) -> Option<usize> {
         None
+    }
+
+    fn trailing(&mut self) -> Option<Option<usize>> {
+        (self.pos < self.data.len()).then_some(None)
     }
 
     fn skip(&mut self, ty: Scalar, n: usize) -> std::result::Result<(), ReadError> {
@@ -501,6 +519,13 @@ fn read_body<S: Source>(
             None => format_error(path, &msg),
         });
     }
+    if let Some(line) = src.trailing() {
+        let msg = "data after the elements the header declares (is a count wrong?)";
+        return Err(match line {
+            Some(line) => parse_error(path, line, msg),
+            None => format_error(path, msg),
+        });
+    }
     if faces.is_empty() {
         return Err(format_error(path, "no faces"));
     }
@@ -566,6 +591,20 @@ impl std::fmt::Debug for ReadError {
 mod tests {
     use super::*;
     use crate::Error;
+
+    #[test]
+    fn data_beyond_the_declared_elements_is_an_error_naming_its_line() {
+        let text = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                    property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
+                    end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 2 1\n";
+        match parse_ply(text.as_bytes(), "t.ply") {
+            Err(Error::Parse { line, msg, .. }) => {
+                assert_eq!(line, 14, "{msg}");
+                assert!(msg.contains("after the elements"), "{msg}");
+            }
+            other => panic!("{other:?}"),
+        }
+    }
     use crate::io::test_util::data_dir;
 
     /// A value of a given PLY type, for building test files.

@@ -255,6 +255,20 @@ pub fn spherical_constrained_delaunay(
     Ok(faces)
 }
 
+/// Two points at exactly the same position (the first such pair in sorted order), if any.
+pub(crate) fn coincident_pair(points: &[[f64; 2]]) -> Option<(usize, usize)> {
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_unstable_by(|&a, &b| {
+        points[a][0]
+            .total_cmp(&points[b][0])
+            .then(points[a][1].total_cmp(&points[b][1]))
+    });
+    order
+        .windows(2)
+        .find(|w| points[w[0]] == points[w[1]])
+        .map(|w| (w[0].min(w[1]), w[0].max(w[1])))
+}
+
 /// Loads points and segments into a CDT, refusing what would make it differ from the input.
 fn build(points: &[[f64; 2]], segments: &[[usize; 2]]) -> Result<Cdt> {
     if let Some(i) = points
@@ -278,9 +292,11 @@ fn build(points: &[[f64; 2]], segments: &[[usize; 2]]) -> Result<Cdt> {
     let cdt = Cdt::try_bulk_load_cdt(vertices, segments.to_vec(), |_| conflicts += 1)
         .map_err(|e| Error::InvalidMesh(format!("cannot triangulate the points: {e:?}")))?;
     if cdt.num_vertices() != points.len() {
-        return Err(Error::InvalidMesh(
-            "two points to triangulate are at the same position".into(),
-        ));
+        let (i, j) = coincident_pair(points).unwrap_or((0, 0));
+        return Err(Error::InvalidMesh(format!(
+            "points {i} and {j} to triangulate are at the same position ({}, {})",
+            points[i][0], points[i][1]
+        )));
     }
     let mut distinct: Vec<[usize; 2]> = segments
         .iter()

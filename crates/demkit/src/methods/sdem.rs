@@ -70,6 +70,13 @@ pub fn run(
     let t0 = Instant::now();
     let mut notes = Vec::new();
     let initial = initial_sphere_map(mesh, population, &mut notes)?;
+    if crate::init::spherical_conformal::count_spherical_flips(&initial, &mesh.faces) > 0 {
+        return Err(Error::InvalidMesh(format!(
+            "the mesh is too small to map onto the sphere: with {} faces its spherical \
+             conformal map folds (subdivide it; the icosahedron's 20 faces are enough)",
+            mesh.n_faces()
+        )));
+    }
     let time_init = t0.elapsed().as_secs_f64();
     let mut result = run_from(mesh, population, initial, config, progress)?;
     result.time_init = time_init;
