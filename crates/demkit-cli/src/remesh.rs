@@ -9,7 +9,7 @@ use crate::map::{check_output_extension, compute, read_valid_mesh, resolve_metho
 use crate::report::InputSummary;
 use demkit::TriMesh;
 use demkit::apps::remesh::quality::{max_distance_to_surface, quality};
-use demkit::apps::remesh::{Target, min_vertices, remesh};
+use demkit::apps::remesh::{Target, check_vertex_count, min_vertices, remesh};
 use demkit::mesh::topology::topology;
 use serde::Serialize;
 use std::time::Instant;
@@ -72,6 +72,7 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
     let topo = topology(&mesh);
     let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
     warn_unused(&a.m, method, a.quiet);
+    check_vertex_count(a.vertices)?;
     let least = min_vertices(topo.boundary_loops.len(), topo.genus);
     if a.vertices < least {
         return Err(Failure::input(format!(

@@ -64,3 +64,18 @@ fn a_tetrahedron_is_too_small_for_a_spherical_map() {
     s.run(&["map", "t.obj", "--out", "o.obj"])
         .input_error_naming(&["too small", "4 faces"]);
 }
+
+#[test]
+fn a_remesh_beyond_memory_is_refused_up_front_with_the_estimate() {
+    let s = Scratch::new("huge-remesh");
+    s.generate(&["grid", "--nx", "4", "--ny", "4", "--out", "g.obj"]);
+    s.run(&[
+        "remesh",
+        "g.obj",
+        "--out",
+        "o.obj",
+        "--vertices",
+        "1000000000",
+    ])
+    .input_error_naming(&["--vertices 1000000000", "GB"]);
+}

@@ -17,6 +17,17 @@ mod sphere_overlap;
 pub mod spherical_conformal;
 pub mod tdem;
 
+/// Refuses a mesh the methods cannot work on, whoever built it: the first error of
+/// [`crate::mesh::validate::check`] (a face index out of range, a non-finite coordinate, a
+/// degenerate or non-manifold face, ...). The CLI validates on reading; this keeps a library
+/// caller's unvalidated mesh from reaching the numerics.
+pub(crate) fn require_valid_mesh(mesh: &crate::TriMesh, method: &str) -> crate::Result<()> {
+    match crate::mesh::validate::check(mesh).errors.into_iter().next() {
+        Some(e) => Err(crate::Error::InvalidMesh(format!("{method}: {e}"))),
+        None => Ok(()),
+    }
+}
+
 /// Checks what every landmark method needs of its landmarks: at least one, vertex indices in
 /// range, each vertex once (landmarks are numbered from 1 in the messages).
 pub(crate) fn check_landmark_vertices(
@@ -112,3 +123,31 @@ pub struct MapResult {
 
 /// A progress callback; the CLI draws a bar with it, tests pass `&mut |_| {}`.
 pub type ProgressFn<'a> = &'a mut dyn FnMut(Progress);
+
+#[cfg(test)]
+mod input_tests {
+    use crate::TriMesh;
+
+    /// An unvalidated mesh with a face index out of range: every method refuses it with an
+    /// error, none panics.
+    #[test]
+    fn every_method_refuses_an_out_of_range_face_index() {
+        let mesh = TriMesh::new(
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            vec![[0, 1, 7]],
+        );
+        let pop = [1.0];
+        let quiet = &mut |_| {};
+        assert!(super::dem::run(&mesh, &pop, &Default::default(), quiet).is_err());
+        assert!(super::dem_shape::run(&mesh, &pop, &Default::default(), quiet).is_err());
+        assert!(super::sdem::run(&mesh, &pop, &Default::default(), quiet).is_err());
+        assert!(super::deq::run(&mesh, &pop, &Default::default(), quiet).is_err());
+        assert!(super::spherical_conformal::run(&mesh, &pop).is_err());
+        assert!(super::circle_conformal::run(&mesh, &pop).is_err());
+        let lm = [(0usize, [0.0, 0.0, 1.0])];
+        assert!(super::lsdem::run(&mesh, &pop, &lm, &Default::default(), quiet).is_err());
+        assert!(super::ldeq::run(&mesh, &pop, &lm, &Default::default(), quiet).is_err());
+        let torus = crate::geometry::torus::Torus::new(2.0, 1.0).unwrap();
+        assert!(super::tdem::run(&mesh, &pop, &torus, &Default::default(), quiet).is_err());
+    }
+}

@@ -67,6 +67,7 @@ const SMALLEST_STEP: f64 = 1e-6;
 
 /// Checks that `mesh` is a closed connected genus-one surface and `population` fits it.
 pub(crate) fn torus_input(mesh: &TriMesh, population: &[f64]) -> Result<()> {
+    super::require_valid_mesh(mesh, "tdem")?;
     let topo = topology(mesh);
     if topo.components != 1 || !topo.boundary_loops.is_empty() || topo.genus != 1 {
         let what = if topo.components != 1 {

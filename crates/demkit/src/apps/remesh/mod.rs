@@ -61,6 +61,23 @@ pub struct Layout {
 /// Rounds of flips and smoothing after the layout is pulled back.
 pub const RELAX_ROUNDS: usize = 10;
 
+/// The most vertices a remesh may ask for ...
+pub const MAX_VERTICES: usize = 20_000_000;
+
+/// ... at about this many bytes of working memory each (candidates, triangulation, chart).
+pub const BYTES_PER_VERTEX: usize = 2000;
+
+/// Refuses a vertex count beyond [`MAX_VERTICES`], with the memory it would take.
+pub fn check_vertex_count(n: usize) -> Result<()> {
+    if n > MAX_VERTICES {
+        let gb = n as f64 * BYTES_PER_VERTEX as f64 / 1e9;
+        return Err(Error::Argument(format!(
+            "--vertices {n} would need about {gb:.0} GB of memory; at most {MAX_VERTICES} vertices"
+        )));
+    }
+    Ok(())
+}
+
 /// The fewest vertices asked for that can keep a surface's topology: 16 for a closed genus-one
 /// surface, otherwise 4, and 4 per boundary loop with holes.
 pub fn min_vertices(boundary_loops: usize, genus: i64) -> usize {
@@ -100,6 +117,7 @@ pub fn remesh_with(
     n: usize,
     rounds: usize,
 ) -> Result<TriMesh> {
+    check_vertex_count(n)?;
     let topo = topology(input);
     let least = min_vertices(topo.boundary_loops.len(), topo.genus);
     if n < least {

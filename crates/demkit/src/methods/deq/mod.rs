@@ -103,6 +103,7 @@ pub(crate) fn circle_input(
     population: &[f64],
     method: &str,
 ) -> Result<Vec<Vec<u32>>> {
+    super::require_valid_mesh(mesh, method)?;
     let topo = topology(mesh);
     if topo.components != 1 || topo.boundary_loops.is_empty() || topo.genus != 0 {
         let what = if topo.boundary_loops.is_empty() {
