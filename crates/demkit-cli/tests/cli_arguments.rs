@@ -79,3 +79,23 @@ fn a_remesh_beyond_memory_is_refused_up_front_with_the_estimate() {
     ])
     .input_error_naming(&["--vertices 1000000000", "GB"]);
 }
+
+#[test]
+fn a_geojson_hole_outside_its_exterior_is_refused_naming_the_feature() {
+    let s = Scratch::new("geo-hole");
+    s.write(
+        "r.geojson",
+        r#"{"type":"FeatureCollection","features":[
+{"type":"Feature","properties":{"v":1},"geometry":{"type":"Polygon","coordinates":[[[0,0],[4,0],[4,4],[0,4],[0,0]],[[10,10],[11,10],[11,11],[10,11],[10,10]]]}},
+{"type":"Feature","properties":{"v":2},"geometry":{"type":"Polygon","coordinates":[[[4,0],[8,0],[8,4],[4,4],[4,0]]]}}]}"#,
+    );
+    s.run(&[
+        "cartogram",
+        "r.geojson",
+        "--value",
+        "v",
+        "--out",
+        "o.geojson",
+    ])
+    .input_error_naming(&["feature 0", "outside"]);
+}

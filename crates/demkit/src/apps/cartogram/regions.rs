@@ -131,7 +131,35 @@ impl RegionSet {
         };
         set.split_t_junctions(tol);
         set.check_crossings(path)?;
+        set.check_holes_inside(path)?;
         Ok(set)
+    }
+
+    /// Every hole lies inside its polygon's exterior ring. With no two edges crossing (checked
+    /// first), a hole is wholly inside or wholly outside, so the middle of one of its edges
+    /// decides.
+    fn check_holes_inside(&self, path: &str) -> Result<()> {
+        let pts = &self.points;
+        for r in &self.regions {
+            for (k, rings) in r.polygons.iter().enumerate() {
+                let exterior: Vec<[f64; 2]> = rings[0].iter().map(|&v| pts[v]).collect();
+                for (j, hole) in rings.iter().enumerate().skip(1) {
+                    let (a, b) = (pts[hole[0]], pts[hole[1]]);
+                    let mid = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+                    if !inside_ring(mid, &exterior) {
+                        return Err(Error::Format {
+                            path: path.to_string(),
+                            msg: format!(
+                                "{}: ring {j} of polygon {k} (a hole) lies outside the polygon's \
+                                 exterior ring",
+                                r.label
+                            ),
+                        });
+                    }
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The distinct undirected edges of all rings, each with the regions using it.
@@ -286,6 +314,22 @@ impl RegionSet {
         }
         Ok(())
     }
+}
+
+/// Whether `p` lies inside the closed polygon `ring` (even–odd rule).
+fn inside_ring(p: [f64; 2], ring: &[[f64; 2]]) -> bool {
+    let mut inside = false;
+    let n = ring.len();
+    for i in 0..n {
+        let (a, b) = (ring[i], ring[(i + 1) % n]);
+        if (a[1] > p[1]) != (b[1] > p[1]) {
+            let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+            if p[0] < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
 }
 
 /// Orientation of `c` with respect to the line `a → b` (positive: left).
@@ -504,6 +548,21 @@ mod tests {
         let coords = set.coordinates();
         let total: f64 = coords.iter().flatten().map(|p| polygon_area(p)).sum();
         assert!((total - 4.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_hole_outside_its_exterior_ring_is_refused() {
+        let outer = square(0.0, 0.0, 4.0)[..4].to_vec();
+        let away = square(10.0, 10.0, 1.0)[..4].to_vec();
+        let e = RegionSet::build(&[raw("feature 3", vec![vec![outer.clone(), away]])], "t")
+            .unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("feature 3: ring 1 of polygon 0 (a hole) lies outside"),
+            "{e}"
+        );
+        let inner = square(1.0, 1.0, 1.0)[..4].to_vec();
+        assert!(RegionSet::build(&[raw("feature 3", vec![vec![outer, inner]])], "t").is_ok());
     }
 
     #[test]
