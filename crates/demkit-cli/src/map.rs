@@ -42,36 +42,6 @@ pub struct Computed {
 }
 
 impl Computed {
-    /// A run its method calls converged is not converged (exit 3) when it left the density as it
-    /// was ([`demkit::metrics::barely_moved`]), or when it stopped improving with a fixed `--dt`
-    /// short of its tolerance; the reason goes to the notes. The conformal maps alone do not
-    /// equalize the density and are left as they are.
-    pub fn judge(&mut self, metrics: &demkit::metrics::Metrics, dt: Option<f64>) {
-        if !self.result.converged
-            || matches!(
-                self.method,
-                Method::SphericalConformal | Method::CircleConformal
-            )
-        {
-            return;
-        }
-        let stationary = self.result.stop_reason == demkit::methods::StopReason::Stationary;
-        let why = match (demkit::metrics::barely_moved(metrics), dt) {
-            (Some(why), Some(dt)) => {
-                format!("{why}; the fixed time step {dt:e} is too small to move the map")
-            }
-            (Some(why), None) => why,
-            // With its step fixed a run that stops improving may only be too slow to go on.
-            (None, Some(dt)) if stationary => format!(
-                "the map stopped improving with the fixed time step {dt:e} before reaching the tolerance; the default (adaptive) step may go further"
-            ),
-            (None, _) => return,
-        };
-        self.result.converged = false;
-        self.result.stop_reason = demkit::methods::StopReason::MaxIter;
-        self.result.notes.push(why);
-    }
-
     /// The report metrics of this map of `mesh` (DESIGN.md, "Report").
     pub fn metrics(&self, mesh: &TriMesh) -> demkit::metrics::Metrics {
         compute_metrics(
@@ -260,7 +230,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     }
     let mut c = compute(&mesh, method, &a.m, a.quiet)?;
     let metrics = c.metrics(&mesh);
-    c.judge(&metrics, a.m.dt);
+    c.result.judge(&metrics, a.m.dt);
     let result = &c.result;
     let out_mesh = TriMesh::new(result.positions.clone(), mesh.faces.clone());
     demkit::io::write_mesh(&a.out, &out_mesh)?;

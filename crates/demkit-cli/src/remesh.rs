@@ -85,7 +85,7 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
 
     let mut c = compute(&mesh, method, &a.m, a.quiet)?;
     let metrics = c.metrics(&mesh);
-    c.judge(&metrics, a.m.dt);
+    c.result.judge(&metrics, a.m.dt);
     let result = &c.result;
     let t_map = t0.elapsed().as_secs_f64();
     if metrics.flipped_triangles > 0 {

@@ -121,6 +121,35 @@ pub struct MapResult {
     pub flat_torus: Option<crate::geometry::torus::FlatTorusMap>,
 }
 
+impl MapResult {
+    /// Makes `converged` honest: a run its method calls converged is not (stop reason
+    /// `max_iter`, the reason in the notes) when it left the density as it was
+    /// ([`crate::metrics::barely_moved`] of its `metrics`), or when it stopped improving under
+    /// a fixed time step `fixed_dt` short of its tolerance. The conformal maps do not equalize
+    /// the density and are left as they are.
+    pub fn judge(&mut self, metrics: &crate::metrics::Metrics, fixed_dt: Option<f64>) {
+        if !self.converged || matches!(self.method, "spherical-conformal" | "circle-conformal") {
+            return;
+        }
+        let stationary = self.stop_reason == StopReason::Stationary;
+        let why = match (crate::metrics::barely_moved(metrics), fixed_dt) {
+            (Some(why), Some(dt)) => {
+                format!("{why}; the fixed time step {dt:e} is too small to move the map")
+            }
+            (Some(why), None) => why,
+            // With its step fixed a run that stops improving may only be too slow to go on.
+            (None, Some(dt)) if stationary => format!(
+                "the map stopped improving with the fixed time step {dt:e} before reaching the \
+                 tolerance; the default (adaptive) step may go further"
+            ),
+            (None, _) => return,
+        };
+        self.converged = false;
+        self.stop_reason = StopReason::MaxIter;
+        self.notes.push(why);
+    }
+}
+
 /// A progress callback; the CLI draws a bar with it, tests pass `&mut |_| {}`.
 pub type ProgressFn<'a> = &'a mut dyn FnMut(Progress);
 

@@ -10,6 +10,15 @@
 //! is at most [`LEG`] times that radius, so the squeeze a leg makes stays mild; between legs
 //! the energy is minimised with the landmarks pinned, which spreads it out.
 
+use super::newton::Outcome;
+use super::rounding::move_vertices;
+use crate::Result;
+
+/// At most this many legs; a leg the map cannot take is halved, down to [`MIN_LEG_SCALE`] of
+/// its length.
+const MAX_LEGS: usize = 100;
+const MIN_LEG_SCALE: f64 = 1.0 / 64.0;
+
 /// A leg of a landmark's way is at most this share of its clearance.
 pub(crate) const LEG: f64 = 0.4;
 
@@ -22,9 +31,66 @@ const TO_LOOPS: f64 = 0.8;
 /// ... and this share of the way to the nearest other landmark (so the disks never overlap).
 const TO_LANDMARKS: f64 = 0.45;
 
+/// Leads the `landmarks` of the map `x` (region faces `faces`; `held`: the loops and hole
+/// fillings, which stay; the region's vertices are the first `n_region`) to their `targets`
+/// leg by leg, calling `polish` (a few Newton steps with the landmarks pinned) after each.
+/// Stops when all are there, when a leg cannot be taken even shortened, or when `polish` finds
+/// nothing to improve (the last good map is kept). Returns the polishing's iterations and
+/// history; the landmarks not at their target are the ones missed.
+pub(crate) fn lead(
+    faces: &[[u32; 3]],
+    x: &mut [[f64; 3]],
+    held: &[bool],
+    n_region: usize,
+    landmarks: &[u32],
+    targets: &[[f64; 2]],
+    mut polish: impl FnMut(&mut [[f64; 3]]) -> Result<Outcome>,
+) -> Result<Outcome> {
+    let movable: Vec<bool> = (0..x.len()).map(|v| v < n_region && !held[v]).collect();
+    let mut done = Outcome {
+        iterations: 0,
+        history: Vec::new(),
+        converged: false,
+    };
+    let mut before = x.to_vec();
+    let mut scale = 1.0;
+    for _ in 0..MAX_LEGS {
+        let clearances = clearances(x, &movable, landmarks);
+        let legs: Vec<[f64; 2]> = landmarks
+            .iter()
+            .zip(targets)
+            .zip(&clearances)
+            .map(|((&v, q), &rho)| next_leg(x[v as usize], *q, scale * rho))
+            .collect();
+        let movers = disk_movers(x, &movable, landmarks, &clearances, &legs);
+        before.copy_from_slice(x);
+        if !move_vertices(faces, x, held, &movers)? {
+            scale *= 0.5;
+            if scale < MIN_LEG_SCALE {
+                break;
+            }
+        }
+        // Where the way is blocked a leg can leave the map with nothing left to improve.
+        let Ok(step) = polish(x) else {
+            x.copy_from_slice(&before);
+            break;
+        };
+        done.iterations += step.iterations;
+        done.history.extend(step.history);
+        let there = landmarks
+            .iter()
+            .zip(targets)
+            .all(|(&v, q)| x[v as usize][0] == q[0] && x[v as usize][1] == q[1]);
+        if there {
+            break;
+        }
+    }
+    Ok(done)
+}
+
 /// Each landmark's clearance in the map `x`: a share of the distance to the nearest vertex
-/// where `blocked` is true (the loops, the hole fillings) and to the nearest other landmark.
-pub(crate) fn clearances(x: &[[f64; 3]], blocked: &[bool], landmarks: &[u32]) -> Vec<f64> {
+/// `movable` holds still (the loops, the hole fillings) and to the nearest other landmark.
+pub(crate) fn clearances(x: &[[f64; 3]], movable: &[bool], landmarks: &[u32]) -> Vec<f64> {
     let dist = |a: [f64; 3], b: [f64; 3]| (a[0] - b[0]).hypot(a[1] - b[1]);
     landmarks
         .iter()
@@ -32,8 +98,8 @@ pub(crate) fn clearances(x: &[[f64; 3]], blocked: &[bool], landmarks: &[u32]) ->
             let p = x[v as usize];
             let to_loops = x
                 .iter()
-                .zip(blocked)
-                .filter(|(_, b)| **b)
+                .zip(movable)
+                .filter(|(_, m)| !**m)
                 .map(|(q, _)| dist(p, *q))
                 .fold(f64::INFINITY, f64::min);
             let to_landmarks = landmarks
@@ -102,10 +168,10 @@ mod tests {
             [0.0, 0.5, 0.0],
             [0.0, -3.0, 0.0],
         ];
-        let blocked = [false, true, false, false];
-        let c = clearances(&x, &blocked, &[0, 2]);
+        let movable = [true, false, true, true];
+        let c = clearances(&x, &movable, &[0, 2]);
         assert!((c[0] - 0.45 * 0.5).abs() < 1e-15);
-        let c = clearances(&x, &blocked, &[0, 3]);
+        let c = clearances(&x, &movable, &[0, 3]);
         assert!((c[0] - 0.8).abs() < 1e-15);
     }
 

@@ -57,14 +57,9 @@ const COARSE_MAX_ITER: usize = 300;
 const LOG_STAGE_ITERATIONS: usize = 30;
 const LOG_STAGE_TOLERANCE: f64 = 1e-2;
 
-/// LDEQ: each leg of the landmarks' way ([`landmarks`]) is followed by at most this many
-/// Newton iterations with the landmarks pinned, ...
+/// LDEQ: each leg of the landmarks' way ([`landmarks::lead`]) is followed by at most this many
+/// Newton iterations with the landmarks pinned.
 const LEG_ITERATIONS: usize = 3;
-
-/// ... over at most this many legs; a leg the map cannot take is halved, down to this share of
-/// its length.
-const MAX_LANDMARK_LEGS: usize = 100;
-const MIN_LEG_SCALE: f64 = 1.0 / 64.0;
 
 /// DEQ parameters.
 #[derive(Debug, Clone, PartialEq)]
@@ -355,36 +350,8 @@ pub(crate) fn circle_domain_map(
     // made; once there, the energy is minimised with them pinned.
     let mut missed = Vec::new();
     if !landmarks.is_empty() {
-        let mut movable = vec![false; x.len()];
-        for (v, m) in movable
-            .iter_mut()
-            .enumerate()
-            .take(layout.n_region_vertices)
-        {
-            *m = !held[v];
-        }
-        let blocked: Vec<bool> = movable.iter().map(|m| !m).collect();
-        // A leg the map cannot take is tried again shorter, down to MIN_LEG_SCALE.
-        let mut scale = 1.0;
-        for _ in 0..MAX_LANDMARK_LEGS {
-            let clearances = landmarks::clearances(&x, &blocked, &pinned);
-            let legs: Vec<[f64; 2]> = pinned
-                .iter()
-                .zip(&landmark_targets)
-                .zip(&clearances)
-                .map(|((&v, q), &rho)| landmarks::next_leg(x[v as usize], *q, scale * rho))
-                .collect();
-            let movers = landmarks::disk_movers(&x, &movable, &pinned, &clearances, &legs);
-            // Where the way is blocked a leg can leave the map with nothing left to improve:
-            // the last good map is kept and the landmarks stop there.
-            let before_leg = x.clone();
-            if !rounding::move_vertices(&layout.region_faces, &mut x, &held, &movers)? {
-                scale *= 0.5;
-                if scale < MIN_LEG_SCALE {
-                    break;
-                }
-            }
-            let Ok(polish) = newton::minimize(
+        let polish = |x: &mut [[f64; 3]]| {
+            newton::minimize(
                 &stage(
                     energy::Misfit::Square,
                     config.alpha,
@@ -392,21 +359,20 @@ pub(crate) fn circle_domain_map(
                     config.epsilon,
                     &pinned,
                 ),
-                &mut x,
-            ) else {
-                x = before_leg;
-                break;
-            };
-            fine.iterations += polish.iterations;
-            fine.history.extend(&polish.history);
-            let there = pinned
-                .iter()
-                .zip(&landmark_targets)
-                .all(|(&v, q)| x[v as usize][0] == q[0] && x[v as usize][1] == q[1]);
-            if there {
-                break;
-            }
-        }
+                x,
+            )
+        };
+        let legs = landmarks::lead(
+            &layout.region_faces,
+            &mut x,
+            &held,
+            layout.n_region_vertices,
+            &pinned,
+            &landmark_targets,
+            polish,
+        )?;
+        fine.iterations += legs.iterations;
+        fine.history.extend(&legs.history);
         for (k, (&w, &(v, q))) in pinned.iter().zip(landmarks).enumerate() {
             if x[w as usize][0] != q[0] || x[w as usize][1] != q[1] {
                 missed.push((k, v));
