@@ -29,7 +29,9 @@ pub fn check_output_extension(out: &Path) -> Result<(), Failure> {
 pub struct Computed {
     /// The method that ran (never `Auto`).
     pub method: Method,
-    /// The population of every input face.
+    /// The surface mapped when the method refined the input (DEQ splits the chords of holes).
+    pub refined_mesh: Option<TriMesh>,
+    /// The population of every face of the surface mapped.
     pub population: Vec<f64>,
     /// The landmarks, when the method uses them.
     pub landmarks: Option<Vec<(usize, [f64; 3])>>,
@@ -42,10 +44,15 @@ pub struct Computed {
 }
 
 impl Computed {
-    /// The report metrics of this map of `mesh` (DESIGN.md, "Report").
-    pub fn metrics(&self, mesh: &TriMesh) -> demkit::metrics::Metrics {
+    /// The surface mapped: the refined one if the method refined `input`, else `input`.
+    pub fn surface<'a>(&'a self, input: &'a TriMesh) -> &'a TriMesh {
+        self.refined_mesh.as_ref().unwrap_or(input)
+    }
+
+    /// The report metrics of this map of `input` (DESIGN.md, "Report").
+    pub fn metrics(&self, input: &TriMesh) -> demkit::metrics::Metrics {
         compute_metrics(
-            mesh,
+            self.surface(input),
             &self.population,
             &self.result.initial,
             &self.result.positions,
@@ -162,7 +169,11 @@ pub fn compute(
         }
     };
     bar.finish();
-    let result = result?;
+    let mut result = result?;
+    let (population, refined_mesh) = match result.refined.take() {
+        Some(r) => (r.population, Some(r.mesh)),
+        None => (population, None),
+    };
     let domain = match (&result.flat_torus, &torus) {
         (Some(flat), Some(t)) => Domain::Torus {
             flipped: flat.count_flipped(&mesh.faces, t.periods()),
@@ -174,6 +185,7 @@ pub fn compute(
     };
     Ok(Computed {
         method,
+        refined_mesh,
         population,
         landmarks,
         result,
@@ -213,8 +225,8 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             ("--report", a.report.as_ref()),
         ]),
     )?;
-    let mesh = read_valid_mesh(&a.mesh, a.quiet)?;
-    let topo = topology(&mesh);
+    let input = read_valid_mesh(&a.mesh, a.quiet)?;
+    let topo = topology(&input);
     let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
     warn_unused(&a.m, method, a.quiet);
     if a.uv_out.is_some()
@@ -228,10 +240,11 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             method.name()
         )));
     }
-    let mut c = compute(&mesh, method, &a.m, a.quiet)?;
-    let metrics = c.metrics(&mesh);
+    let mut c = compute(&input, method, &a.m, a.quiet)?;
+    let metrics = c.metrics(&input);
     c.result.judge(&metrics, a.m.dt);
     let result = &c.result;
+    let mesh = c.surface(&input);
     let out_mesh = TriMesh::new(result.positions.clone(), mesh.faces.clone());
     demkit::io::write_mesh(&a.out, &out_mesh)?;
     if let Some(uv) = &a.uv_out {
@@ -247,8 +260,8 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     }
     if let Some(path) = &a.report {
         let input = InputSummary {
-            vertices: mesh.n_vertices(),
-            faces: mesh.n_faces(),
+            vertices: input.n_vertices(),
+            faces: input.n_faces(),
             boundaries: topo.boundary_loops.len(),
             genus: topo.genus,
         };

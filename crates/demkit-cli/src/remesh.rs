@@ -115,7 +115,13 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
         );
     }
     let t1 = Instant::now();
-    let out = remesh(&mesh, &c.population, &result.positions, target, a.vertices)?;
+    let out = remesh(
+        c.surface(&mesh),
+        &c.population,
+        &result.positions,
+        target,
+        a.vertices,
+    )?;
     let t_remesh = t1.elapsed().as_secs_f64();
     demkit::io::write_mesh(&a.out, &out)?;
 

@@ -16,6 +16,7 @@ pub fn run(mesh: &TriMesh, population: &[f64]) -> Result<MapResult> {
     let domain = crate::init::disk_mobius::balance_areas(&domain, &mesh.faces, population);
     Ok(MapResult {
         flat_torus: None,
+        refined: None,
         method: "circle-conformal",
         positions: domain.positions.clone(),
         initial: domain.positions,

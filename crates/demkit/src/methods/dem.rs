@@ -141,6 +141,7 @@ pub fn run(
         .collect();
     Ok(MapResult {
         flat_torus: None,
+        refined: None,
         method: "dem",
         positions,
         initial,

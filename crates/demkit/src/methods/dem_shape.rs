@@ -97,6 +97,7 @@ pub fn run(
     let out = planar_diffusion::run(&problem, initial.clone(), progress)?;
     Ok(MapResult {
         flat_torus: None,
+        refined: None,
         method: "dem-shape",
         positions: out.positions,
         initial,

@@ -223,6 +223,7 @@ pub fn run(
     let positions = x.into_iter().map(|p| normalize(mat_vec(&r, p))).collect();
     Ok(MapResult {
         flat_torus: None,
+        refined: None,
         method: "lsdem",
         positions,
         initial,

@@ -119,6 +119,21 @@ pub struct MapResult {
     /// For maps onto a torus: the final map on the flat torus (points and lattice
     /// translations), from which `positions` is projected; flips are counted on it.
     pub flat_torus: Option<crate::geometry::torus::FlatTorusMap>,
+    /// The surface the map is of, when the method had to refine its input (DEQ: the chords of
+    /// holes split, [`deq`]); `positions` and `initial` then follow its vertices, the input's
+    /// first in their order.
+    pub refined: Option<RefinedSurface>,
+}
+
+/// A refinement of the input a method mapped instead of the input itself.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RefinedSurface {
+    /// The refined mesh: the input vertices first, in input order, then the added ones.
+    pub mesh: crate::TriMesh,
+    /// The population of each of its faces (each input face's shared among its parts by area).
+    pub population: Vec<f64>,
+    /// The input face each of its faces is part of.
+    pub parent_face: Vec<usize>,
 }
 
 impl MapResult {

@@ -170,6 +170,7 @@ pub fn run_from(
     let positions = best.1.into_iter().map(normalize).collect();
     Ok(MapResult {
         flat_torus: None,
+        refined: None,
         method: "sdem",
         positions,
         initial,

@@ -16,6 +16,7 @@ pub fn run(mesh: &TriMesh, population: &[f64]) -> Result<MapResult> {
     let map = initial_sphere_map(mesh, population, &mut notes)?;
     Ok(MapResult {
         flat_torus: None,
+        refined: None,
         method: "spherical-conformal",
         positions: map.clone(),
         initial: map,

@@ -256,6 +256,7 @@ pub fn run_from(
         time_map: t1.elapsed().as_secs_f64(),
         notes,
         flat_torus: Some(map),
+        refined: None,
     })
 }
 

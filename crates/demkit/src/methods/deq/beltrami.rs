@@ -20,7 +20,7 @@ const MAX_HALVINGS: usize = 4;
 
 /// The relaxation of one surface's region.
 pub(crate) struct Relaxation {
-    /// The surface (working numbering).
+    /// The surface (the map's numbering: its vertices, then the hole fillings' points).
     surface: Vec<[f64; 3]>,
     faces: Vec<[u32; 3]>,
     /// The linear Beltrami solver's system, every vertex in `held` fixed.
@@ -28,8 +28,8 @@ pub(crate) struct Relaxation {
 }
 
 impl Relaxation {
-    /// The relaxation of the region `faces` of `surface` (working numbering) with the vertices
-    /// where `held` is true fixed.
+    /// The relaxation of the region `faces` of `surface` with the vertices where `held` is
+    /// true fixed.
     pub fn new(surface: &[[f64; 3]], faces: &[[u32; 3]], held: &[bool]) -> Result<Self> {
         Ok(Self {
             surface: surface.to_vec(),

@@ -34,14 +34,10 @@ impl Density {
         }
     }
 
-    /// Angles of the vertices of `lp` (working numbering, following the face orientation) in
-    /// proportion to the weighted length of its edges, from 0 in the direction `sign` (+1
-    /// counter-clockwise).
-    fn loop_angles(&self, mesh: &TriMesh, layout: &Layout, lp: &[u32], sign: f64) -> Vec<f64> {
-        let input: Vec<u32> = lp
-            .iter()
-            .map(|&w| layout.input_vertex[w as usize])
-            .collect();
+    /// Angles of the vertices of `lp` (following the face orientation) in proportion to the
+    /// weighted length of its edges, from 0 in the direction `sign` (+1 counter-clockwise).
+    fn loop_angles(&self, mesh: &TriMesh, lp: &[u32], sign: f64) -> Vec<f64> {
+        let input = lp;
         let m = input.len();
         let mut edge_face: HashMap<(u32, u32), usize> = HashMap::with_capacity(m);
         for k in 0..m {
@@ -85,8 +81,8 @@ impl Density {
     }
 }
 
-/// The fan-filled disk's embedding: the planar position of every surface vertex (working
-/// numbering) and of each hole's fan centre.
+/// The fan-filled disk's embedding: the planar position of every surface vertex and of each
+/// hole's fan centre.
 pub(crate) struct FilledEmbedding {
     pub positions: Vec<[f64; 3]>,
     pub centres: Vec<[f64; 2]>,
@@ -100,20 +96,19 @@ pub(crate) fn filled_disk_embedding(
     population: &[f64],
     layout: &Layout,
 ) -> Result<FilledEmbedding> {
-    let n = layout.n_surface_vertices();
-    let mut positions = layout.from_input(&mesh.positions);
-    let mut faces = layout.region_faces.clone();
+    let n = mesh.n_vertices();
+    let mut positions = mesh.positions.clone();
+    let mut faces = mesh.faces.clone();
     for (h, hole) in layout.holes.iter().enumerate() {
-        faces.extend_from_slice(&hole.rim_faces);
         let centre = (n + h) as u32;
         positions.push(hole.surface_centroid);
-        let lp = &hole.surface_loop;
+        let lp = &hole.boundary;
         for k in 0..lp.len() {
             faces.push([lp[(k + 1) % lp.len()], lp[k], centre]);
         }
     }
     let density = Density::new(mesh, population);
-    let angles = density.loop_angles(mesh, layout, &layout.outer, 1.0);
+    let angles = density.loop_angles(mesh, &layout.outer, 1.0);
     let circle: Vec<[f64; 2]> = angles.iter().map(|t| [t.cos(), t.sin()]).collect();
     let map = fixed_boundary_map(
         &positions,

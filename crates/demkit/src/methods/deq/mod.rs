@@ -4,8 +4,9 @@
 //! and (4.7)). The algorithm departs from the paper's Algorithms 5.1–5.4 where measurements
 //! showed it had to (README, *Deviations*):
 //!
-//! 1. **Rims** ([`rim`]): ears and peninsulas of the holes, which no circle domain can hold
-//!    outside its circles, are laid inside their holes.
+//! 1. **Chords** ([`chords`]): an edge joining two vertices of the same hole (the ears and
+//!    peninsulas of a jagged rim), which no circle domain can hold outside the hole's circle,
+//!    is split at its midpoint.
 //! 2. **Initial map** ([`initial`], [`rounding`]): the holes filled with fans, the filled disk
 //!    embedded with positive weights and the outer loop on the unit circle, then every hole
 //!    made round without folding the map.
@@ -24,6 +25,7 @@
 //!    by less than ε.
 
 mod beltrami;
+mod chords;
 mod circles;
 mod energy;
 mod initial;
@@ -32,7 +34,6 @@ mod layout;
 mod newton;
 mod parameters;
 mod patch;
-mod rim;
 mod rounding;
 
 use super::planar_diffusion::{self, Problem};
@@ -120,6 +121,16 @@ pub(crate) fn circle_input(
         });
     }
     crate::population::check_population(population, mesh.n_faces())?;
+    let mut used = vec![false; mesh.n_vertices()];
+    for &v in mesh.faces.iter().flatten() {
+        used[v as usize] = true;
+    }
+    if let Some(v) = used.iter().position(|u| !u) {
+        return Err(Error::InvalidMesh(format!(
+            "{method}: vertex {v} belongs to no face (drop unused vertices first: \
+             mesh::validate::validate does)"
+        )));
+    }
     crate::init::circle_domain::ordered_loops(mesh, &topo.boundary_loops)
 }
 
@@ -149,7 +160,54 @@ pub fn run(
 
 /// The whole method for DEQ (no `landmarks`) and LDEQ (interior vertices sent to planar
 /// targets inside the unit disk; checked by the caller). `loops` come from [`circle_input`].
+/// A mesh whose holes have chords ([`chords`]) is mapped with them split; the result then
+/// carries the refined surface.
 pub(crate) fn circle_domain_map(
+    mesh: &TriMesh,
+    population: &[f64],
+    loops: &[Vec<u32>],
+    landmarks: &[(usize, [f64; 2])],
+    config: &Config,
+    method: &'static str,
+    progress: ProgressFn,
+) -> Result<MapResult> {
+    let chords = chords::of_holes(mesh.n_vertices(), &mesh.faces, loops);
+    if chords.is_empty() {
+        return chordless_map(mesh, population, loops, landmarks, config, method, progress);
+    }
+    let refinement = crate::mesh::split::split_edges(mesh, &chords);
+    let refined_population = refinement.population(population);
+    let mut result = chordless_map(
+        &refinement.mesh,
+        &refined_population,
+        loops,
+        landmarks,
+        config,
+        method,
+        progress,
+    )?;
+    result.notes.insert(
+        0,
+        format!(
+            "{} edges joined two vertices of the same hole (ears and peninsulas of its rim), \
+             which no circle domain can hold outside the hole's circle: each was split at its \
+             midpoint, so the map has {} more vertices and {} more faces than the input (the \
+             input's come first, in their order)",
+            chords.len(),
+            refinement.mesh.n_vertices() - mesh.n_vertices(),
+            refinement.mesh.n_faces() - mesh.n_faces()
+        ),
+    );
+    result.refined = Some(super::RefinedSurface {
+        mesh: refinement.mesh,
+        population: refined_population,
+        parent_face: refinement.parent_face,
+    });
+    Ok(result)
+}
+
+/// [`circle_domain_map`] of a mesh whose holes have no chords.
+fn chordless_map(
     mesh: &TriMesh,
     population: &[f64],
     loops: &[Vec<u32>],
@@ -160,17 +218,8 @@ pub(crate) fn circle_domain_map(
 ) -> Result<MapResult> {
     let t0 = Instant::now();
     let mut notes = Vec::new();
-    let rims = rim::peel(mesh.n_vertices(), &mesh.faces, loops)?;
-    if rims.n_peeled() > 0 {
-        notes.push(format!(
-            "{} faces on the rims of holes (ears and peninsulas: joined to the rest by one edge \
-             whose ends are on the same hole) lie inside their holes: no circle domain can hold \
-             them outside",
-            rims.n_peeled()
-        ));
-    }
-    let layout = Layout::new(mesh, loops, &rims);
-    let hole_loops: Vec<Vec<u32>> = layout.holes.iter().map(|h| h.circle_loop.clone()).collect();
+    let layout = Layout::new(mesh, loops);
+    let hole_loops: Vec<Vec<u32>> = layout.holes.iter().map(|h| h.boundary.clone()).collect();
 
     // The initial map: the fan-filled disk, its holes made round.
     let embedding = initial::filled_disk_embedding(mesh, population, &layout)?;
@@ -186,15 +235,12 @@ pub(crate) fn circle_domain_map(
         circles.push(circle);
         movers.extend(targets);
     }
-    if !rounding::move_vertices(&layout.region_faces, &mut x, &held, &movers)? {
+    if !rounding::move_vertices(&mesh.faces, &mut x, &held, &movers)? {
         return Err(Error::Numerical(
             "a hole of the initial map could not be made round without folding the map".into(),
         ));
     }
-    let pinned: Vec<u32> = landmarks
-        .iter()
-        .map(|&(v, _)| layout.working_vertex[v])
-        .collect();
+    let pinned: Vec<u32> = landmarks.iter().map(|&(v, _)| v as u32).collect();
     let landmark_targets: Vec<[f64; 2]> = landmarks.iter().map(|l| l.1).collect();
 
     // The hole fillings and the populations of the filled disk.
@@ -202,26 +248,20 @@ pub(crate) fn circle_domain_map(
     for (hole, &c) in layout.holes.iter().zip(&circles) {
         patches.push(Patch::build(&mut x, hole, c)?);
     }
-    let mut faces = layout.region_faces.clone();
-    let mut filled_population: Vec<f64> = layout
-        .region_face_input
-        .iter()
-        .map(|&f| population[f])
-        .collect();
+    let mut faces = mesh.faces.clone();
+    let mut filled_population = population.to_vec();
     let surface_areas = face_areas(&mesh.positions, &mesh.faces);
     let mean_density = population.iter().sum::<f64>() / surface_areas.iter().sum::<f64>();
     for (hole, p) in layout.holes.iter().zip(&patches) {
-        // The hole carries the mean density over the area it spans on the surface, plus the
-        // population of its rim faces.
-        let rim: f64 = hole.rim_face_input.iter().map(|&f| population[f]).sum();
-        let total = mean_density * hole.surface_area + rim;
+        // The hole carries the mean density over the area it spans on the surface.
+        let total = mean_density * hole.surface_area;
         let areas = face_areas(&x, &p.faces);
         let sum: f64 = areas.iter().sum();
         filled_population.extend(areas.iter().map(|a| total * a / sum));
         faces.extend_from_slice(&p.faces);
     }
-    let n_surface = layout.n_surface_vertices();
-    let initial = layout.to_input(&x[..n_surface]);
+    let n_surface = mesh.n_vertices();
+    let initial = x[..n_surface].to_vec();
     if count_nonpositive(&initial, &mesh.faces) > 0 {
         return Err(Error::Numerical(
             "the initial circle domain map folds a triangle".into(),
@@ -233,7 +273,7 @@ pub(crate) fn circle_domain_map(
     let t1 = Instant::now();
     held.resize(x.len(), true);
     let surface = {
-        let mut s = layout.from_input(&mesh.positions);
+        let mut s = mesh.positions.clone();
         s.resize(x.len(), [0.0; 3]);
         s
     };
@@ -242,15 +282,15 @@ pub(crate) fn circle_domain_map(
         holes: &hole_loops,
         fixed_holes: !config.geometry_update,
         patches: &patches,
-        region_faces: &layout.region_faces,
-        extension: crate::fem::DirichletSystem::new(x.len(), &layout.region_faces, &held)?,
-        relaxation: beltrami::Relaxation::new(&surface, &layout.region_faces, &held)?,
+        region_faces: &mesh.faces,
+        extension: crate::fem::DirichletSystem::new(x.len(), &mesh.faces, &held)?,
+        relaxation: beltrami::Relaxation::new(&surface, &mesh.faces, &held)?,
     };
     let problem = Problem {
         faces: &faces,
         population: filled_population,
-        n_roi_vertices: layout.n_region_vertices,
-        n_roi_faces: layout.region_faces.len(),
+        n_roi_vertices: n_surface,
+        n_roi_faces: mesh.n_faces(),
         constraint: &constraint,
         dt: config.dt,
         epsilon: COARSE_EPSILON,
@@ -260,61 +300,13 @@ pub(crate) fn circle_domain_map(
     let coarse = planar_diffusion::run(&problem, x, progress)?;
     let mut x = coarse.positions;
 
-    // The rims were laid out by the hole fillings: their faces get their share of the area
-    // first (only their own vertices move), then the DEQ energy over the region and the rims.
-    let rim_faces: Vec<[u32; 3]> = layout
-        .holes
-        .iter()
-        .flat_map(|h| h.rim_faces.clone())
-        .collect();
-    if !rim_faces.is_empty() {
-        let rim_population: Vec<f64> = layout
-            .holes
-            .iter()
-            .flat_map(|h| h.rim_face_input.iter().map(|&f| population[f]))
-            .collect();
-        let region_area: f64 = face_areas(&x, &layout.region_faces).iter().sum();
-        let region_population: f64 = layout
-            .region_face_input
-            .iter()
-            .map(|&f| population[f])
-            .sum();
-        let region_vertices: Vec<u32> = (0..layout.n_region_vertices as u32).collect();
-        newton::minimize(
-            &newton::Problem {
-                surface: &surface,
-                faces: &rim_faces,
-                population: &rim_population,
-                outer: &[],
-                holes: &[],
-                pinned: &region_vertices,
-                fixed_holes: true,
-                alpha: config.alpha,
-                misfit: energy::Misfit::Square,
-                max_iterations: config.max_iter,
-                tolerance: config.epsilon,
-                area_per_population: Some(region_area / region_population),
-            },
-            &mut x,
-        )?;
-    }
-    let mut energy_faces = layout.region_faces.clone();
-    let mut energy_population: Vec<f64> = layout
-        .region_face_input
-        .iter()
-        .map(|&f| population[f])
-        .collect();
-    for h in &layout.holes {
-        energy_faces.extend_from_slice(&h.rim_faces);
-        energy_population.extend(h.rim_face_input.iter().map(|&f| population[f]));
-    }
     // Far from equal densities Newton's method does better on (log ρ̃)² (a few triangles
     // crushed by the iteration are reopened in a few steps), near them the energy is (ρ̃ − 1)²,
     // what Var(ρ̃) measures, with the distortion term.
     let stage = |misfit, alpha, max_iterations, tolerance, pinned| newton::Problem {
         surface: &surface,
-        faces: &energy_faces,
-        population: &energy_population,
+        faces: &mesh.faces,
+        population,
         outer: &layout.outer,
         holes: &hole_loops,
         pinned,
@@ -323,7 +315,6 @@ pub(crate) fn circle_domain_map(
         misfit,
         max_iterations,
         tolerance,
-        area_per_population: None,
     };
     newton::minimize(
         &stage(
@@ -363,10 +354,10 @@ pub(crate) fn circle_domain_map(
             )
         };
         let legs = landmarks::lead(
-            &layout.region_faces,
+            &mesh.faces,
             &mut x,
             &held,
-            layout.n_region_vertices,
+            n_surface,
             &pinned,
             &landmark_targets,
             polish,
@@ -392,7 +383,8 @@ pub(crate) fn circle_domain_map(
         fine.history.extend(&last.history);
         fine.converged = last.converged;
     }
-    let positions = layout.to_input(&x[..n_surface]);
+    x.truncate(n_surface);
+    let positions = x;
     let mut history = coarse.history;
     history.extend(&fine.history);
     let mut converged = fine.converged;
@@ -415,6 +407,7 @@ pub(crate) fn circle_domain_map(
     }
     Ok(MapResult {
         flat_torus: None,
+        refined: None,
         method,
         positions,
         initial,
@@ -470,6 +463,55 @@ pub(crate) mod tests {
             m.face_density_var_final
         );
         assert!(m.mean_abs_mu < 0.2, "{}", m.mean_abs_mu);
+    }
+
+    #[test]
+    fn a_vertex_of_no_face_is_refused() {
+        let mut mesh = annulus(0.4, 1.0, 4, 24).unwrap();
+        mesh.positions.push([5.0, 5.0, 0.0]);
+        let pop = face_areas(&mesh.positions, &mesh.faces);
+        let e = run(&mesh, &pop, &Config::default(), &mut |_| {}).unwrap_err();
+        assert!(e.to_string().contains("belongs to no face"), "{e}");
+    }
+
+    #[test]
+    fn an_ear_on_a_hole_is_split_and_every_hole_vertex_lies_on_its_circle() {
+        // The annulus with an ear glued into its hole on one edge of the inner loop.
+        let mut mesh = annulus(0.4, 1.0, 6, 48).unwrap();
+        let topo = topology(&mesh);
+        let loops = crate::init::circle_domain::ordered_loops(&mesh, &topo.boundary_loops).unwrap();
+        let (a, b) = (loops[1][0], loops[1][1]);
+        let (pa, pb) = (mesh.positions[a as usize], mesh.positions[b as usize]);
+        mesh.positions.push([0.45 * (pa[0] + pb[0]), 0.45 * (pa[1] + pb[1]), 0.0]);
+        let apex = (mesh.n_vertices() - 1) as u32;
+        // The loop runs a → b along the face orientation, so the ear runs b → a.
+        mesh.faces.push([b, a, apex]);
+        let pop = face_areas(&mesh.positions, &mesh.faces);
+        let r = run(&mesh, &pop, &Config::default(), &mut |_| {}).unwrap();
+        let refined = r.refined.as_ref().expect("the ear's chord is split");
+        assert_eq!(refined.mesh.n_vertices(), mesh.n_vertices() + 1);
+        assert_eq!(refined.mesh.n_faces(), mesh.n_faces() + 2);
+        assert_eq!(r.positions.len(), refined.mesh.n_vertices());
+        let m = compute(
+            &refined.mesh,
+            &refined.population,
+            &r.initial,
+            &r.positions,
+            Domain::Plane,
+            None,
+        );
+        assert_eq!(m.flipped_triangles, 0);
+        let hole = topology(&refined.mesh)
+            .boundary_loops
+            .into_iter()
+            .find(|lp| lp.contains(&apex))
+            .unwrap();
+        let c = Circle::fit(&r.positions, &hole);
+        for &v in &hole {
+            let p = r.positions[v as usize];
+            let d = (p[0] - c.center[0]).hypot(p[1] - c.center[1]);
+            assert!((d - c.radius).abs() < 1e-9 * c.radius, "vertex {v}: {d} vs {}", c.radius);
+        }
     }
 
     #[test]

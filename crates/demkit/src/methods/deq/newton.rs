@@ -24,7 +24,7 @@ const REUSE: usize = 2;
 
 /// What the minimisation works on.
 pub(crate) struct Problem<'a> {
-    /// The surface (working numbering).
+    /// The surface (the map's numbering: its vertices, then the hole fillings' points).
     pub surface: &'a [[f64; 3]],
     /// The faces whose energy is minimised, and their populations.
     pub faces: &'a [[u32; 3]],
@@ -43,9 +43,6 @@ pub(crate) struct Problem<'a> {
     pub max_iterations: usize,
     /// Stop when the Newton decrement is below this fraction of the energy.
     pub tolerance: f64,
-    /// The map area per unit of population the faces' targets follow; `None`: the faces' own
-    /// total area over their total population (measured again after every step).
-    pub area_per_population: Option<f64>,
 }
 
 /// How a minimisation ended.
@@ -62,7 +59,7 @@ pub(crate) struct Outcome {
 }
 
 /// Minimises the energy over the circle domain maps starting from the bijective map `x`
-/// (working numbering; vertices outside the problem's faces are left alone).
+/// (vertices outside the problem's faces are left alone).
 pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
     let params = Parameters::new(x.len(), p.faces, p.outer, p.holes, p.pinned, p.fixed_holes);
     let total_population: f64 = p.population.iter().sum();
@@ -102,17 +99,15 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
     let image = |x: &[[f64; 3]], f: &[u32; 3]| f.map(|v| [x[v as usize][0], x[v as usize][1]]);
     // Every face's relative area target Â/A_src.
     let targets = |x: &[[f64; 3]]| -> Vec<f64> {
-        let total = match p.area_per_population {
-            Some(ratio) => ratio * total_population,
-            None => p
-                .faces
-                .iter()
-                .map(|f| {
-                    let [a, b, c] = f.map(|v| x[v as usize]);
-                    crate::geometry::signed_area_2d(a, b, c)
-                })
-                .sum(),
-        };
+        // The faces' own total area, measured again after every step.
+        let total: f64 = p
+            .faces
+            .iter()
+            .map(|f| {
+                let [a, b, c] = f.map(|v| x[v as usize]);
+                crate::geometry::signed_area_2d(a, b, c)
+            })
+            .sum();
         faces
             .iter()
             .zip(p.population)

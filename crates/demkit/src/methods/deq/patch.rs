@@ -3,14 +3,13 @@
 //! density, so the density diffuses through the hole as through the sea of the DEM paper
 //! (§4.3) and the hole grows or shrinks with it instead of standing as a wall.
 //!
-//! The filling consists of the hole's rim faces (peeled ears, [`super::rim`]) and a constrained
-//! Delaunay triangulation of the rest of the hole: the hole's loop on the surface plus rings of
-//! points whose spacing grows by a quarter per ring towards the centre. Its vertices inside the
-//! circle are laid out again after every move by Tutte's embedding with the circle's vertices
+//! The filling is a constrained Delaunay triangulation of the hole's circle: its loop plus
+//! rings of points whose spacing grows by a quarter per ring towards the centre. Its vertices
+//! inside the circle are laid out again after every move by Tutte's embedding with the circle's vertices
 //! fixed — a convex boundary, so the filling never folds, whatever the hole did.
 
 use super::circles::Circle;
-use super::layout::HoleRim;
+use super::layout::Hole;
 use crate::Result;
 use crate::fem::{DirichletSystem, uniform_weights};
 use crate::mesh::triangulate::{constrained_delaunay, faces_inside, inside_loops};
@@ -21,10 +20,10 @@ const GROWTH: f64 = 1.25;
 
 /// One hole's filling.
 pub(crate) struct Patch {
-    /// Working vertices of the patch: the circle's loop first, then the inside.
+    /// Vertices of the patch (the map's numbering): the circle's loop first, then the inside.
     vertices: Vec<u32>,
     n_boundary: usize,
-    /// Faces in working numbering: the rim faces first, then the filling.
+    /// Faces in the map's numbering.
     pub faces: Vec<[u32; 3]>,
     /// The same faces in the patch's own numbering.
     local_faces: Vec<[u32; 3]>,
@@ -32,14 +31,10 @@ pub(crate) struct Patch {
 }
 
 impl Patch {
-    /// Fills the hole `hole`, whose circle loop lies on `circle` in the map `x` (working
-    /// numbering). The rim vertices are laid out inside the circle, the filling's points are
-    /// appended to `x`.
-    pub fn build(x: &mut Vec<[f64; 3]>, hole: &HoleRim, circle: Circle) -> Result<Self> {
-        if !hole.rim_faces.is_empty() {
-            lay_out_rim(x, hole, circle)?;
-        }
-        let lp = &hole.surface_loop;
+    /// Fills the hole `hole`, whose loop lies on `circle` in the map `x`; the filling's points
+    /// are appended to `x`.
+    pub fn build(x: &mut Vec<[f64; 3]>, hole: &Hole, circle: Circle) -> Result<Self> {
+        let lp = &hole.boundary;
         let m = lp.len();
         let mut points: Vec<[f64; 2]> = lp
             .iter()
@@ -47,17 +42,8 @@ impl Patch {
             .collect();
         let segments: Vec<[usize; 2]> = (0..m).map(|k| [k, (k + 1) % m]).collect();
         let polygon = vec![(0..m).collect::<Vec<usize>>()];
-        // The rings start below the deepest rim vertex.
-        let spacing = TAU * circle.radius / hole.circle_loop.len() as f64;
-        let depth = lp
-            .iter()
-            .map(|&v| {
-                let p = x[v as usize];
-                circle.radius - (p[0] - circle.center[0]).hypot(p[1] - circle.center[1])
-            })
-            .fold(0.0f64, f64::max);
-        let mut s = spacing;
-        let mut r = circle.radius - (0.9 * s).max(depth + 0.6 * s);
+        let mut s = TAU * circle.radius / m as f64;
+        let mut r = circle.radius - 0.9 * s;
         let mut ring = 0;
         while r > 0.6 * s {
             let count = ((TAU * r / s).round() as usize).max(5);
@@ -91,17 +77,16 @@ impl Patch {
         for q in &points[m..] {
             x.push([q[0], q[1], 0.0]);
         }
-        let working = |k: u32| -> u32 {
+        let global = |k: u32| -> u32 {
             if (k as usize) < m {
                 lp[k as usize]
             } else {
                 first_new + k - m as u32
             }
         };
-        let mut faces = hole.rim_faces.clone();
-        faces.extend(fill.iter().map(|f| f.map(working)));
+        let faces: Vec<[u32; 3]> = fill.iter().map(|f| f.map(global)).collect();
         // The patch's own numbering: circle loop, then every other vertex of its faces.
-        let mut vertices = hole.circle_loop.clone();
+        let mut vertices = lp.clone();
         let n_boundary = vertices.len();
         let mut local = std::collections::HashMap::new();
         for (k, &v) in vertices.iter().enumerate() {
@@ -149,39 +134,6 @@ impl Patch {
             step[v as usize] = [0.0, 0.0];
         }
     }
-}
-
-/// Places the rim vertices of `hole` inside its circle: Tutte's embedding of the rim faces and
-/// a fan over the surface loop, with the circle loop fixed.
-fn lay_out_rim(x: &mut [[f64; 3]], hole: &HoleRim, circle: Circle) -> Result<()> {
-    let lp = &hole.surface_loop;
-    let mut vertices = hole.circle_loop.clone();
-    let nb = vertices.len();
-    vertices.extend_from_slice(&hole.rim_vertices);
-    let centre = vertices.len() as u32;
-    let local: std::collections::HashMap<u32, u32> = vertices
-        .iter()
-        .enumerate()
-        .map(|(k, &v)| (v, k as u32))
-        .collect();
-    let mut faces: Vec<[u32; 3]> = hole
-        .rim_faces
-        .iter()
-        .map(|f| f.map(|v| local[&v]))
-        .collect();
-    for k in 0..lp.len() {
-        faces.push([local[&lp[(k + 1) % lp.len()]], local[&lp[k]], centre]);
-    }
-    let n = vertices.len() + 1;
-    let fixed: Vec<bool> = (0..n).map(|k| k < nb).collect();
-    let mut values: Vec<[f64; 3]> = vertices.iter().map(|&v| x[v as usize]).collect();
-    values.push([circle.center[0], circle.center[1], 0.0]);
-    let out =
-        DirichletSystem::new(n, &faces, &fixed)?.solve(&uniform_weights(faces.len()), &values)?;
-    for (k, &v) in vertices.iter().enumerate().skip(nb) {
-        x[v as usize] = out[k];
-    }
-    Ok(())
 }
 
 /// The distance from `q` to the closed polygon `p`.
