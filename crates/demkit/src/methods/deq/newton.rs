@@ -55,8 +55,8 @@ pub(crate) struct Outcome {
     pub history: Vec<f64>,
     /// True when the Newton decrement of a fresh, undamped Hessian fell below the tolerance
     /// (a damped one understates it: brain with six holes stopped at Var(ρ̃) 0.13 instead of
-    /// 0.008), or no step could lower the
-    /// energy at all (a minimum); false when the iteration limit ran out first.
+    /// 0.008), or no step could lower the energy at all (a minimum); false when the iteration
+    /// limit ran out first.
     pub converged: bool,
 }
 
