@@ -994,6 +994,73 @@ fn deq_maps_a_disk_with_holes_onto_a_circle_domain() {
     assert!(off_circle(&output, &second_hole) < 1e-9);
 }
 
+/// An ear glued into a hole (a triangle on two consecutive hole vertices and a new apex inside
+/// the hole) gives the hole a chord: the map splits it, appends the midpoint, and puts every
+/// vertex of the hole, the apex included, on the hole's circle.
+#[test]
+fn deq_splits_the_chord_of_an_ear_and_keeps_every_hole_vertex_on_its_circle() {
+    let s = Scratch::new("deqear");
+    s.generate(&[
+        "disk-holes",
+        "--hole",
+        "0.35:0.1:0.2",
+        "--resolution",
+        "48",
+        "--out",
+        "h.obj",
+    ]);
+    let (mesh, _) = parse_obj(&s.read("h.obj"));
+    let (a, b) = (48usize, 49usize);
+    // The face on the edge a–b runs it one way; the ear runs it the other.
+    let forward = mesh
+        .faces
+        .iter()
+        .any(|f| (0..3).any(|k| f[k] == a && f[(k + 1) % 3] == b));
+    let (pa, pb) = (mesh.positions[a], mesh.positions[b]);
+    let mid = [0.5 * (pa[0] + pb[0]), 0.5 * (pa[1] + pb[1])];
+    let apex = [
+        mid[0] + 0.3 * (0.35 - mid[0]),
+        mid[1] + 0.3 * (0.1 - mid[1]),
+    ];
+    let n = mesh.positions.len();
+    let ear = if forward { [b, a, n] } else { [a, b, n] };
+    let mut text = s.read("h.obj");
+    text.push_str(&format!(
+        "v {} {} 0\nf {} {} {}\n",
+        apex[0],
+        apex[1],
+        ear[0] + 1,
+        ear[1] + 1,
+        ear[2] + 1
+    ));
+    s.write("ear.obj", text);
+    s.ok(&[
+        "map", "ear.obj", "--method", "deq", "--out", "o.obj", "--report", "r.json", "--quiet",
+    ]);
+    let (input, _) = parse_obj(&s.read("ear.obj"));
+    let (output, _) = parse_obj(&s.read("o.obj"));
+    assert_eq!(output.positions.len(), input.positions.len() + 1);
+    assert_eq!(output.faces.len(), input.faces.len() + 2);
+    // Faces away from the chord a–b keep their index and corners.
+    for (f, face) in input.faces.iter().enumerate() {
+        if !(face.contains(&a) && face.contains(&b)) {
+            assert!(output.faces[f] == *face, "face {f}");
+        }
+    }
+    let mut hole: Vec<usize> = (48..58).collect();
+    hole.push(n);
+    assert!(
+        off_circle(&output, &hole) < 1e-9,
+        "{}",
+        off_circle(&output, &hole)
+    );
+    assert_eq!(output.planar_flipped(), 0);
+    let r = json_file(&s.path("r.json"));
+    assert_eq!(at(&r, "converged").as_bool(), Some(true));
+    let notes = at(&r, "notes").to_string();
+    assert!(notes.contains("split at its midpoint"), "{notes}");
+}
+
 #[test]
 fn circle_conformal_is_conformal_and_no_geometry_update_keeps_the_hole_round() {
     let s = Scratch::new("circleconf");

@@ -76,8 +76,7 @@ mod tests {
         ];
         let mesh = crate::TriMesh::new(positions, faces);
         let topo = topology(&mesh);
-        let loops =
-            crate::init::circle_domain::ordered_loops(&mesh, &topo.boundary_loops).unwrap();
+        let loops = crate::init::circle_domain::ordered_loops(&mesh, &topo.boundary_loops).unwrap();
         assert_eq!(loops.len(), 2);
         assert_eq!(of_holes(9, &mesh.faces, &loops), vec![[4, 5]]);
         // Without the ear the hole has no chord.

@@ -482,7 +482,8 @@ pub(crate) mod tests {
         let loops = crate::init::circle_domain::ordered_loops(&mesh, &topo.boundary_loops).unwrap();
         let (a, b) = (loops[1][0], loops[1][1]);
         let (pa, pb) = (mesh.positions[a as usize], mesh.positions[b as usize]);
-        mesh.positions.push([0.45 * (pa[0] + pb[0]), 0.45 * (pa[1] + pb[1]), 0.0]);
+        mesh.positions
+            .push([0.45 * (pa[0] + pb[0]), 0.45 * (pa[1] + pb[1]), 0.0]);
         let apex = (mesh.n_vertices() - 1) as u32;
         // The loop runs a → b along the face orientation, so the ear runs b → a.
         mesh.faces.push([b, a, apex]);
@@ -510,7 +511,11 @@ pub(crate) mod tests {
         for &v in &hole {
             let p = r.positions[v as usize];
             let d = (p[0] - c.center[0]).hypot(p[1] - c.center[1]);
-            assert!((d - c.radius).abs() < 1e-9 * c.radius, "vertex {v}: {d} vs {}", c.radius);
+            assert!(
+                (d - c.radius).abs() < 1e-9 * c.radius,
+                "vertex {v}: {d} vs {}",
+                c.radius
+            );
         }
     }
 
