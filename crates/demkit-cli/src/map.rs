@@ -12,7 +12,7 @@ use demkit::methods::{
     circle_conformal, dem, dem_shape, deq, ldeq, lsdem, sdem, spherical_conformal, tdem,
 };
 use demkit::metrics::{Domain, compute as compute_metrics};
-use demkit::population::{PopulationSpec, face_populations};
+use demkit::population::{PopulationSpec, face_populations_at_scale};
 use std::path::Path;
 use std::time::Instant;
 
@@ -64,15 +64,19 @@ impl Computed {
 
 /// Computes the density-equalizing map of a validated mesh with the options of `map` and
 /// `remesh`; `method` comes from [`resolve_method`].
+/// `mesh` is the input scaled by 2^`exponent` ([`read_valid_mesh`]): population expressions
+/// and `--torus` are in input units.
 pub fn compute(
     mesh: &TriMesh,
+    exponent: i32,
     method: Method,
     a: &MethodArgs,
     quiet: bool,
 ) -> Result<Computed, Failure> {
-    let population = demkit::population::unit_scale(&face_populations(
+    let population = demkit::population::unit_scale(&face_populations_at_scale(
         &PopulationSpec::parse(&a.population),
         mesh,
+        exponent,
     )?);
     let landmarks: Option<Vec<(usize, [f64; 3])>> = match &a.landmarks {
         Some(path)
@@ -97,7 +101,7 @@ pub fn compute(
         ));
     }
     let torus = match (&a.torus, method) {
-        (Some(s), Method::Tdem) => Some(parse_torus(s)?),
+        (Some(s), Method::Tdem) => Some(parse_torus(s)?.scaled_by_power_of_two(exponent)),
         (None, Method::Tdem) => {
             return Err(Failure::input(
                 "--method tdem (for genus-one closed surfaces) needs the target torus: --torus R:r with R > r > 0",
@@ -194,16 +198,20 @@ pub fn compute(
     })
 }
 
-/// Reads and validates a mesh, printing validation warnings unless `quiet`.
-pub fn read_valid_mesh(path: &Path, quiet: bool) -> Result<TriMesh, Failure> {
+/// Reads and validates a mesh, printing validation warnings unless `quiet`. A mesh far from
+/// unit size is scaled by 2^k (exact, [`demkit::mesh::scale`]) and `k` returned with it:
+/// results in input units are scaled back by 2^−k.
+pub fn read_valid_mesh(path: &Path, quiet: bool) -> Result<(TriMesh, i32), Failure> {
     let mesh = demkit::io::read_mesh(path)?;
-    let (mesh, warnings) = demkit::mesh::validate::validate(mesh)?;
+    let (mut mesh, warnings) = demkit::mesh::validate::validate(mesh)?;
     if !quiet {
         for w in &warnings {
             eprintln!("warning: {w}");
         }
     }
-    Ok(mesh)
+    let k = demkit::mesh::scale::normalizing_exponent(&mesh.positions);
+    demkit::mesh::scale::scale_positions(&mut mesh.positions, k);
+    Ok((mesh, k))
 }
 
 /// Runs the map command; returns the exit code (0, or 3 when not converged).
@@ -225,7 +233,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             ("--report", a.report.as_ref()),
         ]),
     )?;
-    let input = read_valid_mesh(&a.mesh, a.quiet)?;
+    let (input, exponent) = read_valid_mesh(&a.mesh, a.quiet)?;
     let topo = topology(&input);
     let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
     warn_unused(&a.m, method, a.quiet);
@@ -240,12 +248,16 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             method.name()
         )));
     }
-    let mut c = compute(&input, method, &a.m, a.quiet)?;
+    let mut c = compute(&input, exponent, method, &a.m, a.quiet)?;
     let metrics = c.metrics(&input);
     c.result.judge(&metrics, a.m.dt);
     let result = &c.result;
     let mesh = c.surface(&input);
-    let out_mesh = TriMesh::new(result.positions.clone(), mesh.faces.clone());
+    let mut out_mesh = TriMesh::new(result.positions.clone(), mesh.faces.clone());
+    if c.torus.is_some() {
+        // On the target torus, in input units.
+        demkit::mesh::scale::scale_positions(&mut out_mesh.positions, -exponent);
+    }
     demkit::io::write_mesh(&a.out, &out_mesh)?;
     if let Some(uv) = &a.uv_out {
         let texture =

@@ -65,8 +65,8 @@ pub fn run(a: &RegisterArgs) -> Result<u8, Failure> {
         ]),
         &crate::paths::given(&[("--out", Some(&a.out)), ("--report", a.report.as_ref())]),
     )?;
-    let mesh_a = read_valid_mesh(&a.a, a.quiet)?;
-    let mesh_b = read_valid_mesh(&a.b, a.quiet)?;
+    let (mesh_a, _) = read_valid_mesh(&a.a, a.quiet)?;
+    let (mesh_b, exponent_b) = read_valid_mesh(&a.b, a.quiet)?;
     let la = demkit::io::landmarks::read_landmark_vertices(&a.landmarks_a, mesh_a.n_vertices())?;
     let lb = demkit::io::landmarks::read_landmark_vertices(&a.landmarks_b, mesh_b.n_vertices())?;
     if la.len() != lb.len() {
@@ -92,10 +92,10 @@ pub fn run(a: &RegisterArgs) -> Result<u8, Failure> {
     );
     bar.finish();
     let reg = reg?;
-    demkit::io::write_mesh(
-        &a.out,
-        &TriMesh::new(reg.positions.clone(), mesh_a.faces.clone()),
-    )?;
+    // On B's surface, in B's units.
+    let mut on_b = TriMesh::new(reg.positions.clone(), mesh_a.faces.clone());
+    demkit::mesh::scale::scale_positions(&mut on_b.positions, -exponent_b);
+    demkit::io::write_mesh(&a.out, &on_b)?;
 
     let diagonal = bounding_box_diagonal(&mesh_b.positions);
     let landmark_error = pairs

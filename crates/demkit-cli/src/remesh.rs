@@ -68,7 +68,7 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
         &crate::paths::mesh_inputs(&a.mesh, &population, &landmarks),
         &crate::paths::given(&[("--out", Some(&a.out)), ("--report", a.report.as_ref())]),
     )?;
-    let mesh = read_valid_mesh(&a.mesh, a.quiet)?;
+    let (mesh, exponent) = read_valid_mesh(&a.mesh, a.quiet)?;
     let topo = topology(&mesh);
     let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
     warn_unused(&a.m, method, a.quiet);
@@ -83,7 +83,7 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
         )));
     }
 
-    let mut c = compute(&mesh, method, &a.m, a.quiet)?;
+    let mut c = compute(&mesh, exponent, method, &a.m, a.quiet)?;
     let metrics = c.metrics(&mesh);
     c.result.judge(&metrics, a.m.dt);
     let result = &c.result;
@@ -123,7 +123,9 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
         a.vertices,
     )?;
     let t_remesh = t1.elapsed().as_secs_f64();
-    demkit::io::write_mesh(&a.out, &out)?;
+    let mut unscaled = out.clone();
+    demkit::mesh::scale::scale_positions(&mut unscaled.positions, -exponent);
+    demkit::io::write_mesh(&a.out, &unscaled)?;
 
     let q = quality(&out);
     let out_topo = topology(&out);

@@ -7,6 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::expr::{Expr, ExprErrorKind};
+use crate::mesh::scale::ldexp;
 use crate::{Error, Result, TriMesh};
 
 /// Where a population comes from.
@@ -53,6 +54,18 @@ pub fn parse(s: &str) -> PopulationSpec {
 /// ([`Error::Parse`] with the file and 1-based line); a wrong count, a bad expression, or a
 /// value that is not finite and positive ([`Error::Population`], naming the face).
 pub fn face_populations(spec: &PopulationSpec, mesh: &TriMesh) -> Result<Vec<f64>> {
+    face_populations_at_scale(spec, mesh, 0)
+}
+
+/// [`face_populations`] of an input that was scaled by 2^`exponent` into `mesh`
+/// ([`crate::mesh::scale`]): an expression's `x`, `y`, `z` are still in input units, its
+/// `area` is measured on `mesh` (an input that needed scaling has areas beyond floating point,
+/// 1e600 or 1e-400).
+pub fn face_populations_at_scale(
+    spec: &PopulationSpec,
+    mesh: &TriMesh,
+    exponent: i32,
+) -> Result<Vec<f64>> {
     let n = mesh.n_faces();
     let values = match spec {
         PopulationSpec::Area => (0..n).map(|f| triangle_area(&mesh.corners(f))).collect(),
@@ -70,10 +83,10 @@ pub fn face_populations(spec: &PopulationSpec, mesh: &TriMesh) -> Result<Vec<f64
             values
         }
         PopulationSpec::Expr(source) => {
-            let values = expression_populations(source, mesh)?;
+            let values = expression_populations(source, mesh, exponent)?;
             // Name the face *and* where it is: the user wrote a function of position.
             if let Some((f, msg)) = first_bad_value(&values) {
-                let [x, y, z] = centroid(&mesh.corners(f));
+                let [x, y, z] = centroid(&mesh.corners(f)).map(|c| ldexp(c, -exponent));
                 let area = triangle_area(&mesh.corners(f));
                 return Err(Error::Population(format!(
                     "{msg} (expression '{source}' at x={x}, y={y}, z={z}, area={area})"
@@ -188,7 +201,7 @@ fn looks_like_a_file_name(s: &str) -> bool {
     }
 }
 
-fn expression_populations(source: &str, mesh: &TriMesh) -> Result<Vec<f64>> {
+fn expression_populations(source: &str, mesh: &TriMesh, exponent: i32) -> Result<Vec<f64>> {
     let expr = Expr::compile(source, &EXPR_VARIABLES).map_err(|e| {
         let hint = match e.kind {
             ExprErrorKind::UnknownVariable(_) => "; the variables are x, y, z and area",
@@ -208,7 +221,7 @@ fn expression_populations(source: &str, mesh: &TriMesh) -> Result<Vec<f64>> {
     Ok((0..mesh.n_faces())
         .map(|f| {
             let corners = mesh.corners(f);
-            let [x, y, z] = centroid(&corners);
+            let [x, y, z] = centroid(&corners).map(|c| ldexp(c, -exponent));
             expr.eval(&[x, y, z, triangle_area(&corners)])
         })
         .collect())

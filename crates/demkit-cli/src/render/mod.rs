@@ -92,7 +92,7 @@ pub fn run(a: &RenderArgs) -> Result<u8, Failure> {
         &crate::paths::given(&[("MESH", Some(&a.mesh)), ("--color", a.color.as_ref())]),
         &crate::paths::given(&[("--out", Some(&a.out))]),
     )?;
-    let mesh = crate::map::read_valid_mesh(&a.mesh, a.quiet)?;
+    let (mesh, _) = crate::map::read_valid_mesh(&a.mesh, a.quiet)?;
     let colors = match &a.color {
         Some(path) => value_colors(&read_face_values(path, mesh.n_faces())?),
         None => vec![PLAIN; mesh.n_faces()],

@@ -15,6 +15,15 @@ pub struct Torus {
 }
 
 impl Torus {
+    /// The same torus with both radii multiplied by 2^k (exact; see [`crate::mesh::scale`]).
+    pub fn scaled_by_power_of_two(&self, k: i32) -> Self {
+        use crate::mesh::scale::ldexp;
+        Self {
+            major: ldexp(self.major, k),
+            minor: ldexp(self.minor, k),
+        }
+    }
+
     /// The torus with radii `R > r > 0`; anything else is an argument error.
     pub fn new(major: f64, minor: f64) -> Result<Self> {
         if !(major.is_finite() && minor.is_finite() && minor > 0.0 && major > minor) {

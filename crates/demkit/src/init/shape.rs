@@ -40,6 +40,9 @@ pub enum Shape {
 
 const VALID: &str = "valid shapes: disk, square, rectangle:W:H, ellipse:A:B (W, H, A, B > 0)";
 
+/// The largest ratio of a rectangle's or an ellipse's two sides that is mapped onto.
+pub const MAX_ASPECT: f64 = 1000.0;
+
 impl Shape {
     /// Parses the prescribed boundary shape of Algorithm 6 from the command line's syntax
     /// (DESIGN, `--shape`): `disk`, `square`,
@@ -84,15 +87,27 @@ impl Shape {
                 )))
             }
         };
+        // The two sides' ratio: beyond MAX_ASPECT the shape is a sliver no mesh of a usable
+        // size fills with proper triangles.
+        let aspect = |[p, q]: [f64; 2], what: &str| -> Result<[f64; 2]> {
+            let ratio = p.max(q) / p.min(q);
+            if ratio > MAX_ASPECT {
+                return Err(Error::Argument(format!(
+                    "shape '{s}': the ratio of {what} is {ratio:e}, more than {MAX_ASPECT} \
+                     (the shape would be too thin to map onto)"
+                )));
+            }
+            Ok([p, q])
+        };
         match name.as_str() {
             "disk" => no_numbers(Shape::Disk),
             "square" => no_numbers(Shape::Square),
             "rectangle" => {
-                let [width, height] = numbers(["W", "H"])?;
+                let [width, height] = aspect(numbers(["W", "H"])?, "W and H")?;
                 Ok(Shape::Rectangle { width, height })
             }
             "ellipse" => {
-                let [a, b] = numbers(["A", "B"])?;
+                let [a, b] = aspect(numbers(["A", "B"])?, "A and B")?;
                 Ok(Shape::Ellipse { a, b })
             }
             _ => Err(Error::Argument(format!("unknown shape '{s}'; {VALID}"))),
@@ -483,6 +498,15 @@ mod tests {
             Shape::parse("ellipse:2:1").unwrap(),
             Shape::Ellipse { a: 2.0, b: 1.0 }
         );
+    }
+
+    #[test]
+    fn parse_rejects_slivers() {
+        for bad in ["ellipse:1e300:1", "rectangle:1:2e3", "ellipse:1e-300:1"] {
+            let e = Shape::parse(bad).unwrap_err().to_string();
+            assert!(e.contains("too thin"), "{bad}: {e}");
+        }
+        assert!(Shape::parse("ellipse:1000:1").is_ok());
     }
 
     #[test]

@@ -152,12 +152,12 @@ pub fn write_obj_textured<W: Write>(
         Ok(())
     };
     for [x, y, z] in &mesh.positions {
-        writeln!(buf, "v {x} {y} {z}")?;
+        writeln!(buf, "v {} {} {}", Real(*x), Real(*y), Real(*z))?;
         flush(&mut buf, &mut w)?;
     }
     if let Some(t) = texture {
         for [u, v] in &t.points {
-            writeln!(buf, "vt {u} {v}")?;
+            writeln!(buf, "vt {} {}", Real(*u), Real(*v))?;
             flush(&mut buf, &mut w)?;
         }
     }
@@ -337,5 +337,46 @@ mod tests {
         if !cfg!(debug_assertions) {
             assert!(elapsed.as_secs_f64() < 0.3, "{elapsed:?}");
         }
+    }
+}
+
+/// A coordinate as the shortest decimal that reads back to the same number: plain digits for
+/// ordinary magnitudes, an exponent beyond them (1e300 rather than three hundred digits).
+struct Real(f64);
+
+impl std::fmt::Display for Real {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || (1e-5..1e16).contains(&a) || !a.is_finite() {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
+#[cfg(test)]
+mod real_tests {
+    use super::Real;
+
+    #[test]
+    fn coordinates_are_written_short_and_read_back_exactly() {
+        for x in [
+            0.0,
+            -0.5,
+            1.0 / 3.0,
+            12345.678,
+            4e300,
+            -2.5e-200,
+            1e-5,
+            9.99e15,
+            1e16,
+        ] {
+            let text = Real(x).to_string();
+            assert!(text.len() <= 24, "{text}");
+            assert_eq!(text.parse::<f64>().unwrap(), x, "{text}");
+        }
+        assert_eq!(Real(4e300).to_string(), "4e300");
+        assert_eq!(Real(0.25).to_string(), "0.25");
     }
 }

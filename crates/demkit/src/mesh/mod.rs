@@ -1,5 +1,6 @@
 //! Triangle meshes: the [`TriMesh`] type, topology, validation, welding and edge splitting.
 
+pub mod scale;
 pub mod split;
 pub mod topology;
 pub mod triangulate;

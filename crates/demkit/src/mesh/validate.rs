@@ -275,6 +275,11 @@ fn check_areas(
     proper_ids: &[u32],
     errors: &mut Vec<String>,
 ) {
+    // The test is relative to the size of the mesh: compute it at unit size, where areas
+    // neither overflow nor vanish (an exact rescaling).
+    let mut scaled = positions.to_vec();
+    super::scale::scale_positions(&mut scaled, super::scale::unit_exponent(positions));
+    let positions = &scaled[..];
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for (p, _) in positions.iter().zip(used).filter(|(_, u)| **u) {

@@ -22,6 +22,10 @@ const MAX_DAMPING: f64 = 1e4;
 /// holes 10.0 s → 7.7 s, the same energy within 1%).
 const REUSE: usize = 2;
 
+/// An energy this small (a mean of squared relative quantities: densities equal to about
+/// 1e-10) is a minimum; relative decrements of it are rounding noise.
+const NEGLIGIBLE_ENERGY: f64 = 1e-20;
+
 /// What the minimisation works on.
 pub(crate) struct Problem<'a> {
     /// The surface (the map's numbering: its vertices, then the hole fillings' points).
@@ -230,8 +234,8 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
         // The Newton decrement: the decrease a full step would make on the quadratic model.
         let predicted = -0.5 * slope / current.abs().max(f64::MIN_POSITIVE);
         outcome.history.push(predicted);
-        if !(predicted > p.tolerance) {
-            if refactor && damping <= MIN_DAMPING {
+        if !(predicted > p.tolerance) || current <= NEGLIGIBLE_ENERGY {
+            if (refactor && damping <= MIN_DAMPING) || current <= NEGLIGIBLE_ENERGY {
                 outcome.converged = true;
                 break;
             }
