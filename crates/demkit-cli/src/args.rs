@@ -68,6 +68,38 @@ pub enum Method {
 }
 
 impl Method {
+    /// The library's method of the same name.
+    pub fn to_library(self) -> demkit::Method {
+        match self {
+            Method::Auto => demkit::Method::Auto,
+            Method::Dem => demkit::Method::Dem,
+            Method::DemShape => demkit::Method::DemShape,
+            Method::Sdem => demkit::Method::Sdem,
+            Method::Lsdem => demkit::Method::Lsdem,
+            Method::Deq => demkit::Method::Deq,
+            Method::Ldeq => demkit::Method::Ldeq,
+            Method::Tdem => demkit::Method::Tdem,
+            Method::SphericalConformal => demkit::Method::SphericalConformal,
+            Method::CircleConformal => demkit::Method::CircleConformal,
+        }
+    }
+
+    /// The command line's method for the library's.
+    pub fn from_library(m: demkit::Method) -> Self {
+        match m {
+            demkit::Method::Auto => Method::Auto,
+            demkit::Method::Dem => Method::Dem,
+            demkit::Method::DemShape => Method::DemShape,
+            demkit::Method::Sdem => Method::Sdem,
+            demkit::Method::Lsdem => Method::Lsdem,
+            demkit::Method::Deq => Method::Deq,
+            demkit::Method::Ldeq => Method::Ldeq,
+            demkit::Method::Tdem => Method::Tdem,
+            demkit::Method::SphericalConformal => Method::SphericalConformal,
+            demkit::Method::CircleConformal => Method::CircleConformal,
+        }
+    }
+
     /// The method's name as typed on the command line.
     pub fn name(self) -> &'static str {
         match self {

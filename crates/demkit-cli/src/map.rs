@@ -4,15 +4,11 @@ use crate::Failure;
 use crate::args::{MapArgs, Method, MethodArgs};
 use crate::progress::Bar;
 use crate::report::{InputSummary, Report};
-use demkit::TriMesh;
 use demkit::geometry::torus::Torus;
 use demkit::init::shape::Shape;
-use demkit::mesh::topology::topology;
-use demkit::methods::{
-    circle_conformal, dem, dem_shape, deq, ldeq, lsdem, sdem, spherical_conformal, tdem,
-};
-use demkit::metrics::{Domain, compute as compute_metrics};
+use demkit::metrics::Domain;
 use demkit::population::{PopulationSpec, face_populations_at_scale};
+use demkit::{MapOptions, Population, Surface, TriMesh};
 use std::path::Path;
 use std::time::Instant;
 
@@ -29,56 +25,40 @@ pub fn check_output_extension(out: &Path) -> Result<(), Failure> {
 pub struct Computed {
     /// The method that ran (never `Auto`).
     pub method: Method,
-    /// The surface mapped when the method refined the input (DEQ splits the chords of holes).
-    pub refined_mesh: Option<TriMesh>,
-    /// The population of every face of the surface mapped.
-    pub population: Vec<f64>,
-    /// The landmarks, when the method uses them.
-    pub landmarks: Option<Vec<(usize, [f64; 3])>>,
-    /// The map.
-    pub result: demkit::methods::MapResult,
-    /// Where the map lies (plane, sphere, torus), for the metrics.
-    pub domain: Domain,
-    /// The target torus of tdem.
+    /// The map ([`demkit::map`]): the surface mapped, its population, positions, domain,
+    /// metrics and the method's result.
+    pub map: demkit::Map,
+    /// The target torus of tdem, in the computation's units (as the flat map has it).
     pub torus: Option<Torus>,
+    /// Where the map lies, as the metrics measure it.
+    pub domain: Domain,
 }
 
 impl Computed {
-    /// The surface mapped: the refined one if the method refined `input`, else `input`.
-    pub fn surface<'a>(&'a self, input: &'a TriMesh) -> &'a TriMesh {
-        self.refined_mesh.as_ref().unwrap_or(input)
-    }
-
-    /// The report metrics of this map of `input` (DESIGN.md, "Report").
-    pub fn metrics(&self, input: &TriMesh) -> demkit::metrics::Metrics {
-        compute_metrics(
-            self.surface(input),
-            &self.population,
-            &self.result.initial,
-            &self.result.positions,
-            self.domain,
-            self.landmarks.as_deref(),
-        )
+    /// The surface mapped (the input, or its refinement).
+    pub fn mesh(&self) -> &TriMesh {
+        &self.map.mesh
     }
 }
 
-/// Computes the density-equalizing map of a validated mesh with the options of `map` and
-/// `remesh`; `method` comes from [`resolve_method`].
-/// `mesh` is the input scaled by 2^`exponent` ([`read_valid_mesh`]): population expressions
-/// and `--torus` are in input units.
+/// Computes the density-equalizing map of `surface` with the options of `map` and `remesh`;
+/// `method` comes from [`resolve_method`].
 pub fn compute(
-    mesh: &TriMesh,
-    exponent: i32,
+    surface: &Surface,
     method: Method,
     a: &MethodArgs,
     quiet: bool,
 ) -> Result<Computed, Failure> {
-    let population = demkit::population::unit_scale(&face_populations_at_scale(
-        &PopulationSpec::parse(&a.population),
-        mesh,
-        exponent,
-    )?);
-    let landmarks: Option<Vec<(usize, [f64; 3])>> = match &a.landmarks {
+    let mesh = surface.mesh();
+    let population = match PopulationSpec::parse(&a.population) {
+        PopulationSpec::Area => Population::Area,
+        PopulationSpec::Uniform => Population::Uniform,
+        PopulationSpec::Expr(e) => Population::Expression(e),
+        spec @ PopulationSpec::File(_) => {
+            Population::PerFace(face_populations_at_scale(&spec, mesh, surface.exponent())?)
+        }
+    };
+    let landmarks: Vec<(usize, [f64; 3])> = match &a.landmarks {
         Some(path)
             if matches!(
                 method,
@@ -86,22 +66,22 @@ pub fn compute(
             ) =>
         {
             let l = demkit::io::landmarks::read_landmarks(path, mesh.n_vertices())?;
-            Some(l.into_iter().map(|l| (l.vertex, l.target)).collect())
+            l.into_iter().map(|l| (l.vertex, l.target)).collect()
         }
-        _ => None,
+        _ => Vec::new(),
     };
-    if method == Method::Lsdem && landmarks.is_none() {
+    if method == Method::Lsdem && landmarks.is_empty() {
         return Err(Failure::input(
             "--method lsdem needs --landmarks FILE (vertex_index x y z per line)",
         ));
     }
-    if method == Method::Ldeq && landmarks.is_none() {
+    if method == Method::Ldeq && landmarks.is_empty() {
         return Err(Failure::input(
             "--method ldeq needs --landmarks FILE (vertex_index x y per line)",
         ));
     }
     let torus = match (&a.torus, method) {
-        (Some(s), Method::Tdem) => Some(parse_torus(s)?.scaled_by_power_of_two(exponent)),
+        (Some(s), Method::Tdem) => Some(parse_torus(s)?),
         (None, Method::Tdem) => {
             return Err(Failure::input(
                 "--method tdem (for genus-one closed surfaces) needs the target torus: --torus R:r with R > r > 0",
@@ -109,109 +89,51 @@ pub fn compute(
         }
         _ => None,
     };
-
+    let shape = match (&a.shape, method) {
+        (Some(s), Method::DemShape) => Some(Shape::parse(s)?),
+        _ => None,
+    };
+    let options = MapOptions {
+        method: method.to_library(),
+        landmarks,
+        torus,
+        shape,
+        alpha: a.alpha,
+        beta: a.beta,
+        gamma: a.gamma,
+        dt: a.dt,
+        epsilon: a.epsilon,
+        max_iter: a.max_iter,
+        fixed_holes: a.no_geometry_update,
+    };
     let bar = Bar::new(quiet, method.name());
-    let mut progress = |p| bar.update(p);
-    let result = match method {
-        Method::Dem => {
-            let mut c = dem::Config::default();
-            apply_common(&mut c.epsilon, &mut c.max_iter, &mut c.dt, a);
-            dem::run(mesh, &population, &c, &mut progress)
-        }
-        Method::DemShape => {
-            let shape = match &a.shape {
-                Some(s) => Shape::parse(s)?,
-                None => Shape::Disk,
-            };
-            let mut c = dem_shape::Config {
-                shape,
-                ..Default::default()
-            };
-            apply_common(&mut c.epsilon, &mut c.max_iter, &mut c.dt, a);
-            dem_shape::run(mesh, &population, &c, &mut progress)
-        }
-        Method::Sdem => {
-            let mut c = sdem::Config::default();
-            let mut dt = Some(c.dt);
-            apply_common(&mut c.epsilon, &mut c.max_iter, &mut dt, a);
-            c.dt = dt.unwrap_or(c.dt);
-            sdem::run(mesh, &population, &c, &mut progress)
-        }
-        Method::SphericalConformal => spherical_conformal::run(mesh, &population),
-        Method::CircleConformal => circle_conformal::run(mesh, &population),
-        Method::Deq => deq::run(mesh, &population, &deq_config(a), &mut progress),
-        Method::Ldeq => {
-            let c = ldeq::Config { deq: deq_config(a) };
-            let l = landmarks.as_deref().unwrap_or(&[]);
-            ldeq::run(mesh, &population, l, &c, &mut progress)
-        }
-        Method::Lsdem => {
-            let mut c = lsdem::Config::default();
-            let mut dt = Some(c.dt);
-            apply_common(&mut c.epsilon, &mut c.max_iter, &mut dt, a);
-            c.dt = dt.unwrap_or(c.dt);
-            c.alpha = a.alpha.unwrap_or(c.alpha);
-            c.beta = a.beta.unwrap_or(c.beta);
-            c.gamma = a.gamma.unwrap_or(c.gamma);
-            let l = landmarks.as_deref().unwrap_or(&[]);
-            lsdem::run(mesh, &population, l, &c, &mut progress)
-        }
-        Method::Tdem => {
-            let mut c = tdem::Config::default();
-            apply_common(&mut c.epsilon, &mut c.max_iter, &mut c.dt, a);
-            match torus.as_ref() {
-                Some(torus) => tdem::run(mesh, &population, torus, &c, &mut progress),
-                None => unreachable!("a missing --torus is refused above"),
-            }
-        }
-        Method::Auto => {
-            bar.finish();
-            return Err(Failure {
-                code: 1,
-                message: "internal error: no method was chosen".into(),
-            });
-        }
-    };
+    let map = demkit::map_with_progress(surface, &population, &options, &mut |p| bar.update(p));
     bar.finish();
-    let mut result = result?;
-    let (population, refined_mesh) = match result.refined.take() {
-        Some(r) => (r.population, Some(r.mesh)),
-        None => (population, None),
-    };
-    let domain = match (&result.flat_torus, &torus) {
-        (Some(flat), Some(t)) => Domain::Torus {
-            flipped: flat.count_flipped(&mesh.faces, t.periods()),
+    let map = map?;
+    let domain = match &map.domain {
+        demkit::Domain::Sphere => Domain::Sphere,
+        demkit::Domain::Torus { .. } => Domain::Torus {
+            flipped: map.metrics.flipped_triangles,
         },
-        _ => match method {
-            Method::Sdem | Method::Lsdem | Method::SphericalConformal => Domain::Sphere,
-            _ => Domain::Plane,
-        },
+        _ => Domain::Plane,
     };
     Ok(Computed {
         method,
-        refined_mesh,
-        population,
-        landmarks,
-        result,
+        map,
+        torus: torus.map(|t| t.scaled_by_power_of_two(surface.exponent())),
         domain,
-        torus,
     })
 }
 
-/// Reads and validates a mesh, printing validation warnings unless `quiet`. A mesh far from
-/// unit size is scaled by 2^k (exact, [`demkit::mesh::scale`]) and `k` returned with it:
-/// results in input units are scaled back by 2^−k.
-pub fn read_valid_mesh(path: &Path, quiet: bool) -> Result<(TriMesh, i32), Failure> {
-    let mesh = demkit::io::read_mesh(path)?;
-    let (mut mesh, warnings) = demkit::mesh::validate::validate(mesh)?;
+/// Reads and validates a mesh ([`Surface`]), printing validation warnings unless `quiet`.
+pub fn read_valid_mesh(path: &Path, quiet: bool) -> Result<Surface, Failure> {
+    let surface = Surface::from_mesh(demkit::io::read_mesh(path)?)?;
     if !quiet {
-        for w in &warnings {
+        for w in surface.warnings() {
             eprintln!("warning: {w}");
         }
     }
-    let k = demkit::mesh::scale::normalizing_exponent(&mesh.positions);
-    demkit::mesh::scale::scale_positions(&mut mesh.positions, k);
-    Ok((mesh, k))
+    Ok(surface)
 }
 
 /// Runs the map command; returns the exit code (0, or 3 when not converged).
@@ -233,8 +155,9 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             ("--report", a.report.as_ref()),
         ]),
     )?;
-    let (input, exponent) = read_valid_mesh(&a.mesh, a.quiet)?;
-    let topo = topology(&input);
+    let surface = read_valid_mesh(&a.mesh, a.quiet)?;
+    let input = surface.mesh();
+    let topo = surface.topology();
     let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
     warn_unused(&a.m, method, a.quiet);
     if a.uv_out.is_some()
@@ -248,16 +171,11 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             method.name()
         )));
     }
-    let mut c = compute(&input, exponent, method, &a.m, a.quiet)?;
-    let metrics = c.metrics(&input);
-    c.result.judge(&metrics, a.m.dt);
-    let result = &c.result;
-    let mesh = c.surface(&input);
-    let mut out_mesh = TriMesh::new(result.positions.clone(), mesh.faces.clone());
-    if c.torus.is_some() {
-        // On the target torus, in input units.
-        demkit::mesh::scale::scale_positions(&mut out_mesh.positions, -exponent);
-    }
+    let c = compute(&surface, method, &a.m, a.quiet)?;
+    let metrics = &c.map.metrics;
+    let result = &c.map.result;
+    let mesh = c.mesh();
+    let out_mesh = TriMesh::new(c.map.positions.clone(), mesh.faces.clone());
     demkit::io::write_mesh(&a.out, &out_mesh)?;
     if let Some(uv) = &a.uv_out {
         let texture =
@@ -304,47 +222,13 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     Ok(if result.converged { 0 } else { 3 })
 }
 
-/// DEQ's parameters from the command line (paper defaults otherwise).
-fn deq_config(a: &MethodArgs) -> deq::Config {
-    let mut c = deq::Config::default();
-    apply_common(&mut c.epsilon, &mut c.max_iter, &mut c.dt, a);
-    c.alpha = a.alpha.unwrap_or(c.alpha);
-    c.geometry_update = !a.no_geometry_update;
-    c
-}
-
-fn apply_common(epsilon: &mut f64, max_iter: &mut usize, dt: &mut Option<f64>, a: &MethodArgs) {
-    if let Some(e) = a.epsilon {
-        *epsilon = e;
-    }
-    if let Some(m) = a.max_iter {
-        *max_iter = m;
-    }
-    if a.dt.is_some() {
-        *dt = a.dt;
-    }
-}
-
 /// `--method auto` by topology; explicit methods are checked by the methods themselves.
 pub fn resolve_method(a: &MethodArgs, boundaries: usize, genus: i64) -> Result<Method, Failure> {
-    if a.method != Method::Auto {
-        return Ok(a.method);
-    }
-    let landmarks = a.landmarks.is_some();
-    Ok(match (boundaries, genus, landmarks) {
-        (1, 0, false) => Method::Dem,
-        (1, 0, true) => Method::Ldeq,
-        (b, 0, false) if b > 1 => Method::Deq,
-        (b, 0, true) if b > 1 => Method::Ldeq,
-        (0, 0, false) => Method::Sdem,
-        (0, 0, true) => Method::Lsdem,
-        (0, 1, _) => Method::Tdem,
-        _ => {
-            return Err(Failure::input(format!(
-                "no method handles a surface with {boundaries} boundary loops and genus {genus}"
-            )));
-        }
-    })
+    let resolved = a
+        .method
+        .to_library()
+        .resolve(boundaries, genus, a.landmarks.is_some())?;
+    Ok(Method::from_library(resolved))
 }
 
 /// `--uv-out` writes .obj only (the format with per-corner texture coordinates).

@@ -65,8 +65,10 @@ pub fn run(a: &RegisterArgs) -> Result<u8, Failure> {
         ]),
         &crate::paths::given(&[("--out", Some(&a.out)), ("--report", a.report.as_ref())]),
     )?;
-    let (mesh_a, _) = read_valid_mesh(&a.a, a.quiet)?;
-    let (mesh_b, exponent_b) = read_valid_mesh(&a.b, a.quiet)?;
+    let surface_a = read_valid_mesh(&a.a, a.quiet)?;
+    let surface_b = read_valid_mesh(&a.b, a.quiet)?;
+    let (mesh_a, mesh_b) = (surface_a.mesh(), surface_b.mesh());
+    let exponent_b = surface_b.exponent();
     let la = demkit::io::landmarks::read_landmark_vertices(&a.landmarks_a, mesh_a.n_vertices())?;
     let lb = demkit::io::landmarks::read_landmark_vertices(&a.landmarks_b, mesh_b.n_vertices())?;
     if la.len() != lb.len() {

@@ -68,8 +68,9 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
         &crate::paths::mesh_inputs(&a.mesh, &population, &landmarks),
         &crate::paths::given(&[("--out", Some(&a.out)), ("--report", a.report.as_ref())]),
     )?;
-    let (mesh, exponent) = read_valid_mesh(&a.mesh, a.quiet)?;
-    let topo = topology(&mesh);
+    let surface = read_valid_mesh(&a.mesh, a.quiet)?;
+    let (mesh, exponent) = (surface.mesh(), surface.exponent());
+    let topo = surface.topology();
     let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
     warn_unused(&a.m, method, a.quiet);
     check_vertex_count(a.vertices)?;
@@ -83,10 +84,9 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
         )));
     }
 
-    let mut c = compute(&mesh, exponent, method, &a.m, a.quiet)?;
-    let metrics = c.metrics(&mesh);
-    c.result.judge(&metrics, a.m.dt);
-    let result = &c.result;
+    let c = compute(&surface, method, &a.m, a.quiet)?;
+    let metrics = &c.map.metrics;
+    let result = &c.map.result;
     let t_map = t0.elapsed().as_secs_f64();
     if metrics.flipped_triangles > 0 {
         eprintln!(
@@ -116,8 +116,8 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
     }
     let t1 = Instant::now();
     let out = remesh(
-        c.surface(&mesh),
-        &c.population,
+        c.mesh(),
+        &c.map.population,
         &result.positions,
         target,
         a.vertices,

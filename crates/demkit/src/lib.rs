@@ -5,6 +5,19 @@
 //! The maps are computed by density diffusion (Gastner–Newman), discretised with finite elements
 //! on the mesh, and kept bijective with quasi-conformal (Beltrami) corrections.
 //!
+//! The front door: [`Surface::new`] validates a mesh, [`map`] maps it with a [`Population`]
+//! and [`MapOptions`] (the method chosen by topology unless named) into a [`Map`], which says
+//! where it lies ([`Domain`]) and carries the report's metrics:
+//!
+//! ```
+//! let mesh = demkit::generate::square_grid(8, 8, 1.0, 1.0).unwrap();
+//! let surface = demkit::Surface::new(mesh.positions, mesh.faces)?;
+//! let population = demkit::Population::Expression("area*(1+(x>0.5))".into());
+//! let map = demkit::map(&surface, &population, &demkit::MapOptions::default())?;
+//! assert!(map.metrics.face_density_var_final < map.metrics.face_density_var_initial);
+//! # Ok::<(), demkit::Error>(())
+//! ```
+//!
 //! Module map (one concept per file):
 //! - [`mesh`]: the triangle mesh, its topology and validation;
 //! - [`io`]: mesh, population and landmark files;
@@ -21,6 +34,7 @@
 // `!(x > 0.0)` is used on purpose: it is true for NaN, which must count as a failure.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod api;
 pub mod apps;
 pub mod error;
 pub mod expr;
@@ -37,6 +51,9 @@ pub mod methods;
 pub mod metrics;
 pub mod population;
 pub mod qc;
+mod surface;
 
+pub use api::{Domain, Map, MapOptions, Method, Population, map, map_with_progress};
 pub use error::{Error, Result};
 pub use mesh::TriMesh;
+pub use surface::Surface;

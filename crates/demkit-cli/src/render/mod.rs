@@ -49,12 +49,12 @@ pub fn check_map_args(a: &MapArgs) -> Result<(), Failure> {
 /// maps lit from `--view`.
 pub fn render_map(png: &Path, mesh: &TriMesh, c: &Computed, a: &MapArgs) -> Result<(), Failure> {
     let size = check_size(a.picture.size)?;
-    let positions = &c.result.positions;
+    let positions = &c.map.result.positions;
     let planar = c.domain == Domain::Plane;
     let view =
         parse_view(a.picture.view.as_deref())?.unwrap_or_else(|| default_view(positions, planar));
     let areas = face_areas(&mesh.positions, &mesh.faces);
-    let log_density: Vec<f64> = histogram::normalized_densities(&c.population, &areas)
+    let log_density: Vec<f64> = histogram::normalized_densities(&c.map.population, &areas)
         .iter()
         .map(|d| d.ln())
         .collect();
@@ -76,10 +76,10 @@ pub fn render_histograms(
     a: &MapArgs,
 ) -> Result<(), Failure> {
     let size = check_size(a.picture.size)?;
-    let (initial, _) = map_areas(&c.result.initial, &mesh.faces, c.domain);
-    let (last, _) = map_areas(&c.result.positions, &mesh.faces, c.domain);
-    let d0 = histogram::normalized_densities(&c.population, &initial);
-    let d1 = histogram::normalized_densities(&c.population, &last);
+    let (initial, _) = map_areas(&c.map.result.initial, &mesh.faces, c.domain);
+    let (last, _) = map_areas(&c.map.result.positions, &mesh.faces, c.domain);
+    let d0 = histogram::normalized_densities(&c.map.population, &initial);
+    let d1 = histogram::normalized_densities(&c.map.population, &last);
     write_png(png, plot::histograms(&d0, &d1, size))
 }
 
@@ -92,7 +92,8 @@ pub fn run(a: &RenderArgs) -> Result<u8, Failure> {
         &crate::paths::given(&[("MESH", Some(&a.mesh)), ("--color", a.color.as_ref())]),
         &crate::paths::given(&[("--out", Some(&a.out))]),
     )?;
-    let (mesh, _) = crate::map::read_valid_mesh(&a.mesh, a.quiet)?;
+    let surface = crate::map::read_valid_mesh(&a.mesh, a.quiet)?;
+    let mesh = surface.mesh();
     let colors = match &a.color {
         Some(path) => value_colors(&read_face_values(path, mesh.n_faces())?),
         None => vec![PLAIN; mesh.n_faces()],

@@ -134,6 +134,12 @@ pub(crate) fn circle_input(
     crate::init::circle_domain::ordered_loops(mesh, &topo.boundary_loops)
 }
 
+/// The circle (centre, radius) fitted to the loop `lp` of the map `x`.
+pub(crate) fn fit_circle(x: &[[f64; 3]], lp: &[u32]) -> ([f64; 2], f64) {
+    let c = circles::Circle::fit(x, lp);
+    (c.center, c.radius)
+}
+
 pub(crate) fn check_config(c: &Config) -> Result<()> {
     super::dem::check_config_values(c.epsilon, c.dt, c.max_iter)?;
     if !(c.alpha >= 0.0 && c.alpha.is_finite()) {
