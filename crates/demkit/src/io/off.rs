@@ -76,7 +76,9 @@ pub fn parse_off(data: &[u8], path: &str) -> Result<TriMesh> {
     };
     let (nv, nf) = (count(0)?, count(1)?);
 
-    let mut positions = Vec::with_capacity(nv.min(data.len()));
+    // The counts are not trusted for allocation beyond what the data could hold: a vertex
+    // line takes at least 6 bytes ("0 0 0\n"), a face line at least 8 ("3 0 1 2\n").
+    let mut positions = Vec::with_capacity(nv.min(data.len() / 6));
     for v in 0..nv {
         let (line_no, line) = lines
             .next()
@@ -86,7 +88,7 @@ pub fn parse_off(data: &[u8], path: &str) -> Result<TriMesh> {
         positions.push(p);
     }
 
-    let mut faces = Vec::with_capacity(nf.min(data.len()));
+    let mut faces = Vec::with_capacity(nf.min(data.len() / 8));
     for f in 0..nf {
         let (line_no, line) = lines
             .next()

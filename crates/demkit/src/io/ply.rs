@@ -264,6 +264,8 @@ trait Source {
     fn next(&mut self, ty: Scalar) -> std::result::Result<f64, ReadError>;
     /// The line of the last value (ascii) or `None` (binary).
     fn line(&self) -> Option<usize>;
+    /// The fewest bytes a value of type `ty` takes in the data.
+    fn min_bytes(&self, ty: Scalar) -> usize;
     /// Skips `n` values of type `ty`.
     fn skip(&mut self, ty: Scalar, n: usize) -> std::result::Result<(), ReadError> {
         for _ in 0..n {
@@ -308,6 +310,9 @@ impl Source for AsciiSource<'_> {
 
     fn line(&self) -> Option<usize> {
         Some(self.token_line)
+    }
+    fn min_bytes(&self, _ty: Scalar) -> usize {
+        1
     }
 
     fn trailing(&mut self) -> Option<Option<usize>> {
@@ -361,6 +366,9 @@ impl Source for BinarySource<'_> {
 
     fn line(&self) -> Option<usize> {
         None
+    }
+    fn min_bytes(&self, ty: Scalar) -> usize {
+        ty.size()
     }
 
     fn trailing(&mut self) -> Option<Option<usize>> {
@@ -431,8 +439,21 @@ fn read_body<S: Source>(
         let roles: Vec<Role> = roles(element, path)?;
         let is_vertex = element.name == "vertex";
         let is_face = element.name == "face";
-        // Never trust the count for allocation beyond what the data could hold.
-        let capacity = element.count.min(body_len);
+        // An element without properties takes no bytes: there is nothing to read, however
+        // many items it declares (and counting up to a huge count would never end).
+        if element.properties.is_empty() {
+            continue;
+        }
+        // Never trust the count for allocation beyond what the data could hold: every item
+        // takes at least `item_bytes`.
+        let item_bytes: usize = element
+            .properties
+            .iter()
+            .map(|p| match p {
+                Property::Scalar(ty, _) | Property::List(ty, _, _) => src.min_bytes(*ty),
+            })
+            .sum();
+        let capacity = element.count.min(body_len / item_bytes.max(1));
         if is_vertex {
             positions.reserve(capacity);
         } else if is_face {
