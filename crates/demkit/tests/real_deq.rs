@@ -287,6 +287,23 @@ fn chinese_lion_with_three_holes() {
     variation("chinese lion, 3 holes", &mesh, &pop, 3);
 }
 
+/// The human face with three balls cut out around the nose and the eyes (opening six holes
+/// through the scan's folds): one hole's circle of its own area would reach a neighbour in the
+/// initial map, so the holes start inside their polygons.
+#[test]
+#[ignore = "needs real meshes (DEMKIT_DATA)"]
+fn face_with_three_ball_cuts() {
+    let face = load("open/human_face.obj");
+    let balls = [
+        ([0.003108, 0.240116, 0.100035], 0.006274),
+        ([-0.052453, 0.281069, 0.071058], 0.006089),
+        ([0.038877, 0.264829, 0.082188], 0.008868),
+    ];
+    let mesh = cut_holes(&face, &balls, false);
+    let pop = population(&mesh, "area");
+    variation("face, three ball cuts", &mesh, &pop, 3);
+}
+
 /// The L-shaped domain [0,2]² minus [1,2]², with holes cut into it (jagged loops).
 fn l_shape(holes: &[([f64; 3], f64)]) -> TriMesh {
     let mut grid = square_grid(60, 60, 2.0, 2.0).unwrap();

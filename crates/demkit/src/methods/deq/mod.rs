@@ -234,17 +234,28 @@ fn chordless_map(
     for &v in layout.outer.iter().chain(hole_loops.iter().flatten()) {
         held[v as usize] = true;
     }
+    // Every hole made the circle of its area; where one would reach another hole or the
+    // outer loop, every hole made a circle inside its polygon instead.
+    let embedded = x.clone();
     let mut circles = Vec::with_capacity(hole_loops.len());
-    let mut movers = Vec::new();
-    for (lp, &centre) in hole_loops.iter().zip(&embedding.centres) {
-        let (circle, targets) = rounding::round_targets(&x, lp, centre);
-        circles.push(circle);
-        movers.extend(targets);
-    }
-    if !rounding::move_vertices(&mesh.faces, &mut x, &held, &movers)? {
-        return Err(Error::Numerical(
-            "a hole of the initial map could not be made round without folding the map".into(),
-        ));
+    for size in [rounding::Size::Area, rounding::Size::Inside] {
+        circles.clear();
+        let mut movers = Vec::new();
+        for (lp, &centre) in hole_loops.iter().zip(&embedding.centres) {
+            let (circle, targets) = rounding::round_targets(&x, lp, centre, size);
+            circles.push(circle);
+            movers.extend(targets);
+        }
+        if rounding::move_vertices(&mesh.faces, &mut x, &held, &movers)? {
+            break;
+        }
+        x.copy_from_slice(&embedded);
+        if size == rounding::Size::Inside {
+            return Err(Error::Numerical(
+                "a hole of the initial map could not be made round without folding the map"
+                    .into(),
+            ));
+        }
     }
     let pinned: Vec<u32> = landmarks.iter().map(|&(v, _)| v as u32).collect();
     let landmark_targets: Vec<[f64; 2]> = landmarks.iter().map(|l| l.1).collect();

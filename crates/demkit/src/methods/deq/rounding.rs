@@ -83,13 +83,25 @@ pub(crate) fn move_vertices(
     Ok(false)
 }
 
+/// How large a hole's circle is made.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Size {
+    /// The polygon's area: the hole keeps its size.
+    Area,
+    /// Nine tenths of the distance from the centre to the polygon's nearest edge: the circle
+    /// lies inside the polygon, so the loop only moves into its own hole (for a hole whose
+    /// area circle would reach another hole or the outer loop).
+    Inside,
+}
+
 /// The circle each hole of the planar map `x` is made: centred at the centroid of the hole's
 /// polygon when the polygon is star-shaped around it (else at `centre`, the fan centre it is
-/// star-shaped around), with the polygon's area; every loop vertex goes radially onto it.
+/// star-shaped around), of the given `size`; every loop vertex goes radially onto it.
 pub(crate) fn round_targets(
     x: &[[f64; 3]],
     lp: &[u32],
     centre: [f64; 2],
+    size: Size,
 ) -> (Circle, Vec<(u32, [f64; 2])>) {
     let (area, centroid) = polygon_area_centroid(x, lp);
     let center = if star_shaped(x, lp, centroid) {
@@ -97,10 +109,11 @@ pub(crate) fn round_targets(
     } else {
         centre
     };
-    let circle = Circle {
-        center,
-        radius: (area.abs() / std::f64::consts::PI).sqrt(),
+    let radius = match size {
+        Size::Area => (area.abs() / std::f64::consts::PI).sqrt(),
+        Size::Inside => 0.9 * distance_to_edges(x, lp, center),
     };
+    let circle = Circle { center, radius };
     let targets = lp
         .iter()
         .map(|&v| {
@@ -123,6 +136,23 @@ fn polygon_area_centroid(x: &[[f64; 3]], lp: &[u32]) -> (f64, [f64; 2]) {
         cy += (p[1] + q[1]) * c / 6.0;
     }
     (a, [cx / a, cy / a])
+}
+
+/// The distance from `c` to the nearest edge of the polygon `lp`.
+fn distance_to_edges(x: &[[f64; 3]], lp: &[u32], c: [f64; 2]) -> f64 {
+    (0..lp.len())
+        .map(|k| {
+            let (a, b) = (x[lp[k] as usize], x[lp[(k + 1) % lp.len()] as usize]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let l2 = dx * dx + dy * dy;
+            let t = if l2 > 0.0 {
+                (((c[0] - a[0]) * dx + (c[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (c[0] - a[0] - t * dx).hypot(c[1] - a[1] - t * dy)
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// True when every edge of the polygon `lp` turns the same way around `c` (so the polygon is
@@ -179,7 +209,7 @@ mod tests {
             .collect();
         // Clockwise, as a hole's loop runs.
         let lp = [0u32, 3, 2, 1];
-        let (c, targets) = round_targets(&x, &lp, [0.0, 0.0]);
+        let (c, targets) = round_targets(&x, &lp, [0.0, 0.0], Size::Area);
         assert!((c.center[0] - 3.0).abs() < 1e-12 && c.center[1].abs() < 1e-12);
         assert!((c.radius - (4.0 / std::f64::consts::PI).sqrt()).abs() < 1e-12);
         for (v, q) in targets {
@@ -188,5 +218,7 @@ mod tests {
             let cross = (p[0] - 3.0) * q[1] - p[1] * (q[0] - 3.0);
             assert!(cross.abs() < 1e-12);
         }
+        let (inside, _) = round_targets(&x, &lp, [0.0, 0.0], Size::Inside);
+        assert!((inside.radius - 0.9).abs() < 1e-12);
     }
 }
