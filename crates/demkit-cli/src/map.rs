@@ -180,13 +180,13 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     if let Some(uv) = &a.uv_out {
         let texture =
             demkit::apps::texture::texture_coordinates(result, &mesh.faces, c.torus.as_ref())?;
-        demkit::io::write_textured_obj(uv, &mesh, &texture)?;
+        demkit::io::write_textured_obj(uv, mesh, &texture)?;
     }
     if let Some(png) = &a.render {
-        crate::render::render_map(png, &mesh, &c, a)?;
+        crate::render::render_map(png, mesh, &c, a)?;
     }
     if let Some(png) = &a.histogram {
-        crate::render::render_histograms(png, &mesh, &c, a)?;
+        crate::render::render_histograms(png, mesh, &c, a)?;
     }
     if let Some(path) = &a.report {
         let input = InputSummary {
@@ -195,7 +195,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             boundaries: topo.boundary_loops.len(),
             genus: topo.genus,
         };
-        let report = Report::new(result, input, &metrics, t0.elapsed().as_secs_f64());
+        let report = Report::new(result, input, metrics, t0.elapsed().as_secs_f64());
         crate::report::write_json(path, &report)?;
     }
     if !a.quiet {

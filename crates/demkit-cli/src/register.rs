@@ -84,8 +84,8 @@ pub fn run(a: &RegisterArgs) -> Result<u8, Failure> {
     let bar = Bar::new(a.quiet, "register");
     let mut progress = |p| bar.update(p);
     let reg = register(
-        &mesh_a,
-        &mesh_b,
+        mesh_a,
+        mesh_b,
         &pairs,
         &pop_a,
         &pop_b,

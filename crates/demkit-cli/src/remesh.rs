@@ -135,7 +135,7 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
             method: c.method.name().to_string(),
             population: a.m.population.clone(),
             converged: result.converged,
-            input: summary(&mesh),
+            input: summary(mesh),
             output: InputSummary {
                 vertices: out.n_vertices(),
                 faces: out.n_faces(),
@@ -153,7 +153,7 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
                 min_angle_deg: q.min_angle_deg,
                 max_distance_over_diagonal: max_distance_to_surface(
                     &out.positions,
-                    &mesh,
+                    mesh,
                     1e-6 * diagonal,
                 ) / diagonal,
             },

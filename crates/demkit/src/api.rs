@@ -288,7 +288,7 @@ fn run_method(
         }
         Method::DemShape => {
             let mut c = dem_shape::Config {
-                shape: o.shape.clone().unwrap_or(Shape::Disk),
+                shape: o.shape.unwrap_or(Shape::Disk),
                 ..Default::default()
             };
             common(&mut c.epsilon, &mut c.max_iter);

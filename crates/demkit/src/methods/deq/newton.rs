@@ -26,6 +26,9 @@ const REUSE: usize = 2;
 /// 1e-10) is a minimum; relative decrements of it are rounding noise.
 const NEGLIGIBLE_ENERGY: f64 = 1e-20;
 
+/// A face's energy gradient and Hessian in its corners' coordinates (x₀, y₀, x₁, …).
+type CornerDerivatives = ([f64; 6], [[f64; 6]; 6]);
+
 /// What the minimisation works on.
 pub(crate) struct Problem<'a> {
     /// The surface (the map's numbering: its vertices, then the hole fillings' points).
@@ -66,6 +69,8 @@ pub(crate) struct Outcome {
 
 /// Minimises the energy over the circle domain maps starting from the bijective map `x`
 /// (vertices outside the problem's faces are left alone).
+// The corners' unknowns index several parallel arrays at once.
+#[allow(clippy::needless_range_loop)]
 pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
     let params = Parameters::new(x.len(), p.faces, p.outer, p.holes, p.pinned, p.fixed_holes);
     let total_population: f64 = p.population.iter().sum();
@@ -151,7 +156,7 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
     for _ in 0..p.max_iterations {
         outcome.iterations += 1;
         let refactor = stale >= REUSE;
-        let corner: Vec<Option<([f64; 6], [[f64; 6]; 6])>> = p
+        let corner: Vec<Option<CornerDerivatives>> = p
             .faces
             .par_iter()
             .zip(faces.par_iter().zip(target.par_iter()))
