@@ -159,7 +159,7 @@ fn damaged_file(
 // Mesh files
 
 proptest! {
-    #![proptest_config(cases(200))]
+    #![proptest_config(cases(400))]
 
     /// Undamaged files of every format and PLY layout read back as the mesh that was written
     /// (corner positions to `f32` precision where the format stores `f32`).
@@ -199,7 +199,7 @@ const PREFIXES: &[&[u8]] = &[
 ];
 
 proptest! {
-    #![proptest_config(cases(3000))]
+    #![proptest_config(cases(6000))]
 
     /// Damaged files: every reader returns a mesh that keeps the readers' promises, or a
     /// parse or format error; validation then accepts or refuses it as an invalid mesh.
@@ -237,7 +237,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(cases(100))]
+    #![proptest_config(cases(200))]
 
     /// `read_mesh` on a file gives what the format's reader gives on its bytes, whatever the
     /// case of the extension.
@@ -266,7 +266,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(cases(600))]
+    #![proptest_config(cases(1500))]
 
     /// Damaged files that still read and validate go through the method their topology calls
     /// for: a map of finite positions, one per vertex (of the input, or of the refinement the
@@ -340,7 +340,7 @@ fn front_door_options() -> impl Strategy<Value = demkit::MapOptions> {
 }
 
 proptest! {
-    #![proptest_config(cases(300))]
+    #![proptest_config(cases(1000))]
 
     /// The library's front door on damaged meshes: `Surface` accepts exactly what validation
     /// accepts, and `map`, whatever the method, population and options asked for, gives one
@@ -421,7 +421,7 @@ fn raw_mesh() -> impl Strategy<Value = TriMesh> {
 }
 
 proptest! {
-    #![proptest_config(cases(500))]
+    #![proptest_config(cases(1500))]
 
     /// A library caller's mesh that was never validated (indices out of range, repeated or
     /// non-finite vertices, any topology) is refused by every method as an invalid mesh when
@@ -468,7 +468,7 @@ const POPULATION_EXTRAS: &[&str] = &["", "   ", "# comment", "\t# indented comme
 const POPULATION_GARBAGE: &[&str] = &["1 2", "abc", "1,5", "0x10", "--1", "1e", "\u{fffd}"];
 
 proptest! {
-    #![proptest_config(cases(200))]
+    #![proptest_config(cases(400))]
 
     /// Population files: what is written is read back (comments and blank lines ignored), a
     /// line that is not one number is refused naming its line, and a population of the wrong
@@ -546,7 +546,7 @@ fn landmark_field(n: usize) -> impl Strategy<Value = String> {
 }
 
 proptest! {
-    #![proptest_config(cases(300))]
+    #![proptest_config(cases(1000))]
 
     /// Landmark files: what the reader accepts is in range, once per vertex and finite, one
     /// landmark per non-blank line; what it refuses is a parse, landmark or format error. Read
@@ -879,7 +879,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(cases(500))]
+    #![proptest_config(cases(1500))]
 
     /// A population expression gives every face a finite positive population, or an invalid
     /// population error (a bad expression, a value not finite and positive, naming the face).
@@ -1046,7 +1046,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(cases(30))]
+    #![proptest_config(cases(100))]
 
     /// Collections of disjoint regions with positive values are read and built, and go through
     /// the planar or the spherical cartogram (positions as degrees): every region gets a
