@@ -1,0 +1,6 @@
+//! The OBJ reader on arbitrary bytes.
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    demkit_fuzz::mesh(data, demkit_fuzz::MeshFormat::Obj);
+});
