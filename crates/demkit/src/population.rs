@@ -99,15 +99,18 @@ pub fn face_populations_at_scale(
     Ok(values)
 }
 
-/// `values` divided by their largest: every method and metric depends on population ratios
-/// only, and at unit scale the sums over a mesh cannot overflow (a population of 1e306 per
-/// face) nor underflow.
+/// `values` scaled by the power of two that brings their largest into [0.5, 1): every method
+/// and metric depends on population ratios only, and at unit scale the sums over a mesh cannot
+/// overflow (a population of 1e306 per face) nor underflow. A power of two scales exactly, so
+/// a map of the scaled values is the map of the values as given, to the last bit.
 pub fn unit_scale(values: &[f64]) -> Vec<f64> {
     let max = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     if !(max > 0.0 && max.is_finite()) {
         return values.to_vec();
     }
-    values.iter().map(|v| v / max).collect()
+    // A power of two: the scaling is exact, so the map is the one of the values as given.
+    let k = crate::mesh::scale::unit_exponent(&[[max, 0.0, 0.0]]);
+    values.iter().map(|&v| ldexp(v, k)).collect()
 }
 
 /// Refuses a population that no method can use: a length other than `n_faces`, an empty mesh,
@@ -265,9 +268,13 @@ mod tests {
     fn unit_scale_keeps_ratios_and_avoids_overflow() {
         let huge = vec![0.5e308, 1.5e308, 1.0e308];
         let u = unit_scale(&huge);
+        assert!((0.5..1.0).contains(&u[1]), "{u:?}");
         for (a, b) in u.iter().zip([1.0 / 3.0, 1.0, 2.0 / 3.0]) {
-            assert!((a - b).abs() < 1e-15, "{u:?}");
+            assert!((a / u[1] - b).abs() < 1e-15, "{u:?}");
         }
+        // Exact: scaling back gives the values as they were.
+        let k = crate::mesh::scale::unit_exponent(&[[1.5e308, 0.0, 0.0]]);
+        assert!(u.iter().zip(&huge).all(|(a, b)| ldexp(*a, -k) == *b));
         assert!(u.iter().sum::<f64>().is_finite());
         assert!(huge.iter().sum::<f64>().is_infinite());
     }

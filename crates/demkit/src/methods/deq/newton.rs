@@ -22,6 +22,10 @@ const MAX_DAMPING: f64 = 1e4;
 /// holes 10.0 s → 7.7 s, the same energy within 1%).
 const REUSE: usize = 2;
 
+/// The energy falling by less than the tolerance (relative) over this many iterations is a
+/// minimum, whatever the Newton decrement says.
+const STALL_ITERATIONS: usize = 5;
+
 /// An energy this small (a mean of squared relative quantities: densities equal to about
 /// 1e-10) is a minimum; relative decrements of it are rounding noise.
 const NEGLIGIBLE_ENERGY: f64 = 1e-20;
@@ -153,6 +157,7 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
     // Iterations since the last factorization: after a full step the factorization serves
     // again (a chord step with the new gradient), up to REUSE times.
     let mut stale = usize::MAX;
+    let mut energies = vec![current];
     for _ in 0..p.max_iterations {
         outcome.iterations += 1;
         let refactor = stale >= REUSE;
@@ -304,6 +309,15 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
         // The faces' area moved with the holes: retarget and measure again.
         target = targets(x);
         current = energy(x, &target).unwrap_or(e);
+        // Steps cut short by collapsing triangles can leave the decrement large while the
+        // energy no longer falls: that is a minimum too.
+        energies.push(current);
+        if let Some(&before) = energies.iter().rev().nth(STALL_ITERATIONS) {
+            if before - current < p.tolerance * current {
+                outcome.converged = true;
+                break;
+            }
+        }
     }
     Ok(outcome)
 }
