@@ -123,89 +123,89 @@ pub fn run_every_method(
         max_iter: MAX_ITER,
         ..Default::default()
     };
-    let mut out = Vec::new();
-    out.push((
-        "dem",
-        dem::run(
-            mesh,
-            population,
-            &dem::Config {
-                max_iter: MAX_ITER,
-                ..Default::default()
-            },
-            &mut quiet,
-        ),
-    ));
-    out.push((
-        "dem-shape",
-        dem_shape::run(
-            mesh,
-            population,
-            &dem_shape::Config {
-                max_iter: MAX_ITER,
-                ..Default::default()
-            },
-            &mut quiet,
-        ),
-    ));
-    out.push((
-        "sdem",
-        sdem::run(
-            mesh,
-            population,
-            &sdem::Config {
-                max_iter: MAX_ITER,
-                ..Default::default()
-            },
-            &mut quiet,
-        ),
-    ));
-    out.push((
-        "lsdem",
-        lsdem::run(
-            mesh,
-            population,
-            landmarks,
-            &lsdem::Config {
-                max_iter: MAX_ITER,
-                ..Default::default()
-            },
-            &mut quiet,
-        ),
-    ));
-    out.push(("deq", deq::run(mesh, population, &deq_config, &mut quiet)));
-    out.push((
-        "ldeq",
-        ldeq::run(
-            mesh,
-            population,
-            landmarks,
-            &ldeq::Config {
-                deq: deq_config.clone(),
-            },
-            &mut quiet,
-        ),
-    ));
     let torus = demkit::geometry::torus::Torus::new(3.0, 1.0).unwrap();
-    out.push((
-        "tdem",
-        tdem::run(
-            mesh,
-            population,
-            &torus,
-            &tdem::Config {
-                max_iter: MAX_ITER,
-                ..Default::default()
-            },
-            &mut quiet,
+    vec![
+        (
+            "dem",
+            dem::run(
+                mesh,
+                population,
+                &dem::Config {
+                    max_iter: MAX_ITER,
+                    ..Default::default()
+                },
+                &mut quiet,
+            ),
         ),
-    ));
-    out.push((
-        "spherical-conformal",
-        spherical_conformal::run(mesh, population),
-    ));
-    out.push(("circle-conformal", circle_conformal::run(mesh, population)));
-    out
+        (
+            "dem-shape",
+            dem_shape::run(
+                mesh,
+                population,
+                &dem_shape::Config {
+                    max_iter: MAX_ITER,
+                    ..Default::default()
+                },
+                &mut quiet,
+            ),
+        ),
+        (
+            "sdem",
+            sdem::run(
+                mesh,
+                population,
+                &sdem::Config {
+                    max_iter: MAX_ITER,
+                    ..Default::default()
+                },
+                &mut quiet,
+            ),
+        ),
+        (
+            "lsdem",
+            lsdem::run(
+                mesh,
+                population,
+                landmarks,
+                &lsdem::Config {
+                    max_iter: MAX_ITER,
+                    ..Default::default()
+                },
+                &mut quiet,
+            ),
+        ),
+        ("deq", deq::run(mesh, population, &deq_config, &mut quiet)),
+        (
+            "ldeq",
+            ldeq::run(
+                mesh,
+                population,
+                landmarks,
+                &ldeq::Config {
+                    deq: deq_config.clone(),
+                },
+                &mut quiet,
+            ),
+        ),
+        (
+            "tdem",
+            tdem::run(
+                mesh,
+                population,
+                &torus,
+                &tdem::Config {
+                    max_iter: MAX_ITER,
+                    ..Default::default()
+                },
+                &mut quiet,
+            ),
+        ),
+        (
+            "spherical-conformal",
+            spherical_conformal::run(mesh, population),
+        ),
+        ("circle-conformal", circle_conformal::run(mesh, population)),
+    ]
 }
 
 /// Checks what every successful map promises: one finite position per input vertex, or, when
