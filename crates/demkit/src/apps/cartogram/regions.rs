@@ -2,10 +2,6 @@
 //! (positions closer than a tolerance are merged, so a border shared by two regions is made of
 //! the same vertices and edges on both sides), a vertex of one region lying on an edge of
 //! another splits that edge (no T-junctions), and no two edges cross.
-//!
-//! The graph is held in a normalised frame ([`Frame`]): the input's bounding box centred at
-//! the origin with its larger half-side 1, so that squares of side 1e300 or 1e-300 are
-//! computed on the same numbers as unit squares and only the output is scaled back.
 
 use super::Polygon;
 use super::geojson::RawRegion;
@@ -28,65 +24,10 @@ pub struct Region {
 /// All regions over one shared vertex list.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RegionSet {
-    /// The distinct vertices, in the normalised frame (see [`RegionSet::frame`]).
+    /// The distinct vertices.
     pub points: Vec<[f64; 2]>,
     /// The regions, in feature order.
     pub regions: Vec<Region>,
-    /// The similarity from input coordinates to those of [`RegionSet::points`].
-    pub frame: Frame,
-}
-
-/// A similarity of the plane that takes input coordinates to a normalised frame:
-/// `q = (p − centre) / scale`. Built from a bounding box, it puts the box's centre at the
-/// origin and its larger half-side at 1, with every step free of overflow and underflow for
-/// any finite box of positive extent.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Frame {
-    /// The input position that becomes the origin.
-    pub centre: [f64; 2],
-    /// The input length that becomes 1.
-    pub scale: f64,
-}
-
-impl Frame {
-    /// The identity (input coordinates are already normalised).
-    pub const IDENTITY: Frame = Frame {
-        centre: [0.0, 0.0],
-        scale: 1.0,
-    };
-
-    /// The frame of the box `lo`–`hi` (centre at the origin, larger half-side 1), or `None`
-    /// when the box is not finite or has no extent.
-    pub fn of_box(lo: [f64; 2], hi: [f64; 2]) -> Option<Frame> {
-        // Halves first: (hi − lo) may overflow, hi/2 − lo/2 cannot.
-        let centre = [0.5 * lo[0] + 0.5 * hi[0], 0.5 * lo[1] + 0.5 * hi[1]];
-        let scale = (0.5 * hi[0] - 0.5 * lo[0]).max(0.5 * hi[1] - 0.5 * lo[1]);
-        (scale > 0.0 && scale.is_finite() && centre.iter().all(|c| c.is_finite()))
-            .then_some(Frame { centre, scale })
-    }
-
-    /// Input coordinates → normalised ones.
-    pub fn to_unit(&self, p: [f64; 2]) -> [f64; 2] {
-        [
-            (p[0] - self.centre[0]) / self.scale,
-            (p[1] - self.centre[1]) / self.scale,
-        ]
-    }
-
-    /// Normalised coordinates → input ones (not finite when the result lies beyond the range
-    /// of `f64`).
-    pub fn to_input(&self, q: [f64; 2]) -> [f64; 2] {
-        [
-            self.centre[0] + self.scale * q[0],
-            self.centre[1] + self.scale * q[1],
-        ]
-    }
-
-    /// A normalised area in input units (infinite beyond the range of `f64`, as for squares
-    /// of side 1e300, whose area 1e600 has no `f64`).
-    pub fn area_to_input(&self, a: f64) -> f64 {
-        a * self.scale * self.scale
-    }
 }
 
 /// Twice the signed area of a closed ring given without closing point, halved: positive when
@@ -121,13 +62,11 @@ pub fn polygon_area(rings: &[Vec<[f64; 2]>]) -> f64 {
 const SNAP: f64 = 1e-9;
 
 impl RegionSet {
-    /// Builds the shared vertex graph of `raw` in its normalised frame ([`Frame::of_box`] of
-    /// the regions' bounding box); `path` names the file in messages.
+    /// Builds the shared vertex graph of `raw`; `path` names the file in messages.
     ///
-    /// Errors ([`Error::Format`], naming the feature and ring): all positions equal (the
-    /// regions have no extent), a ring with fewer than three distinct points or zero area,
-    /// edges that cross (within one region: the region's boundary crosses itself; between
-    /// two: the regions overlap).
+    /// Errors ([`Error::Format`], naming the feature and ring): a ring with fewer than three
+    /// distinct points or zero area, edges that cross (within one region: the region's
+    /// boundary crosses itself; between two: the regions overlap).
     pub fn build(raw: &[RawRegion], path: &str) -> Result<RegionSet> {
         let err = |msg: String| Error::Format {
             path: path.to_string(),
@@ -137,12 +76,10 @@ impl RegionSet {
             raw.iter()
                 .flat_map(|r| r.polygons.iter().flatten().flatten().copied()),
         );
-        let frame = Frame::of_box(lo, hi).ok_or_else(|| {
-            err("the regions have no extent (all their positions are equal)".into())
-        })?;
-        // In the normalised frame the bounding box is [-1, 1] along its larger side.
-        let (lo, hi) = (frame.to_unit(lo), frame.to_unit(hi));
         let diag = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt();
+        if !(diag > 0.0 && diag.is_finite()) {
+            return Err(err("the regions have no extent".into()));
+        }
         let tol = SNAP * diag;
         let mut snap = Snapper::new(tol);
         let mut regions = Vec::with_capacity(raw.len());
@@ -153,7 +90,7 @@ impl RegionSet {
                 for (j, ring) in rings.iter().enumerate() {
                     let mut idx: Vec<usize> = Vec::with_capacity(ring.len());
                     for &p in ring {
-                        let v = snap.insert(frame.to_unit(p));
+                        let v = snap.insert(p);
                         if idx.last() != Some(&v) {
                             idx.push(v);
                         }
@@ -191,7 +128,6 @@ impl RegionSet {
         let mut set = RegionSet {
             points: snap.points,
             regions,
-            frame,
         };
         set.split_t_junctions(tol);
         set.check_crossings(path)?;
@@ -254,7 +190,7 @@ impl RegionSet {
             .collect()
     }
 
-    /// The coordinates of every region's rings, in the normalised frame.
+    /// The coordinates of every region's rings.
     pub fn coordinates(&self) -> Vec<Vec<Polygon>> {
         self.regions
             .iter()
