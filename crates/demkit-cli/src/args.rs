@@ -1,7 +1,9 @@
 //! Command-line arguments (DESIGN.md, "Command line").
 
+use clap::builder::PossibleValue;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
+use std::sync::LazyLock;
 
 /// demkit: density-equalizing maps (area-preserving parameterizations, cartograms, lenses)
 /// of triangulated surfaces.
@@ -42,78 +44,20 @@ pub struct InfoArgs {
     pub json: bool,
 }
 
-/// The mapping methods.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Method {
-    /// Pick by topology (disk → dem, holes → deq, sphere → sdem, torus → tdem).
-    Auto,
-    /// Density-equalizing map of a disk onto the plane with free boundary (DEM).
-    Dem,
-    /// DEM onto a prescribed shape (see --shape).
-    DemShape,
-    /// Spherical DEM of a genus-0 closed surface.
-    Sdem,
-    /// Landmark-aligned spherical DEM.
-    Lsdem,
-    /// Density-equalizing quasiconformal map onto a circle domain.
-    Deq,
-    /// Landmark-matching DEQ.
-    Ldeq,
-    /// Toroidal DEM of a genus-one surface.
-    Tdem,
-    /// Spherical conformal parameterization (the SDEM initial map).
-    SphericalConformal,
-    /// Conformal map onto a circle domain (the DEQ initial map).
-    CircleConformal,
-}
+/// `--method`: a method of the library, as clap reads and lists it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MethodArg(pub demkit::Method);
 
-impl Method {
-    /// The library's method of the same name.
-    pub fn to_library(self) -> demkit::Method {
-        match self {
-            Method::Auto => demkit::Method::Auto,
-            Method::Dem => demkit::Method::Dem,
-            Method::DemShape => demkit::Method::DemShape,
-            Method::Sdem => demkit::Method::Sdem,
-            Method::Lsdem => demkit::Method::Lsdem,
-            Method::Deq => demkit::Method::Deq,
-            Method::Ldeq => demkit::Method::Ldeq,
-            Method::Tdem => demkit::Method::Tdem,
-            Method::SphericalConformal => demkit::Method::SphericalConformal,
-            Method::CircleConformal => demkit::Method::CircleConformal,
-        }
+static METHODS: LazyLock<Vec<MethodArg>> =
+    LazyLock::new(|| demkit::Method::ALL.iter().map(|&m| MethodArg(m)).collect());
+
+impl ValueEnum for MethodArg {
+    fn value_variants<'a>() -> &'a [Self] {
+        &METHODS
     }
 
-    /// The command line's method for the library's.
-    pub fn from_library(m: demkit::Method) -> Self {
-        match m {
-            demkit::Method::Auto => Method::Auto,
-            demkit::Method::Dem => Method::Dem,
-            demkit::Method::DemShape => Method::DemShape,
-            demkit::Method::Sdem => Method::Sdem,
-            demkit::Method::Lsdem => Method::Lsdem,
-            demkit::Method::Deq => Method::Deq,
-            demkit::Method::Ldeq => Method::Ldeq,
-            demkit::Method::Tdem => Method::Tdem,
-            demkit::Method::SphericalConformal => Method::SphericalConformal,
-            demkit::Method::CircleConformal => Method::CircleConformal,
-        }
-    }
-
-    /// The method's name as typed on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Auto => "auto",
-            Method::Dem => "dem",
-            Method::DemShape => "dem-shape",
-            Method::Sdem => "sdem",
-            Method::Lsdem => "lsdem",
-            Method::Deq => "deq",
-            Method::Ldeq => "ldeq",
-            Method::Tdem => "tdem",
-            Method::SphericalConformal => "spherical-conformal",
-            Method::CircleConformal => "circle-conformal",
-        }
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.0.name()).help(self.0.summary()))
     }
 }
 
@@ -121,8 +65,8 @@ impl Method {
 #[derive(Args, Debug)]
 pub struct MethodArgs {
     /// The method.
-    #[arg(long, value_enum, default_value_t = Method::Auto)]
-    pub method: Method,
+    #[arg(long, value_enum, default_value = "auto")]
+    pub method: MethodArg,
     /// `area`, `uniform`, a FILE with one value per face, or an expression of x, y, z, area.
     #[arg(long, default_value = "area", allow_hyphen_values = true)]
     pub population: String,
@@ -249,6 +193,10 @@ pub struct CartogramArgs {
     /// Iteration limit (default: the method's own).
     #[arg(long)]
     pub max_iter: Option<usize>,
+    /// Cap on the mesh's triangles: with many small regions each gets fewer (default 150000,
+    /// at most 5000000; more is finer and slower).
+    #[arg(long, value_name = "N")]
+    pub faces: Option<usize>,
     /// No progress bar and no warnings.
     #[arg(long)]
     pub quiet: bool,

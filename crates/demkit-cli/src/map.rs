@@ -1,14 +1,13 @@
 //! `demkit map`: read, validate, map, write the mesh and the report.
 
 use crate::Failure;
-use crate::args::{MapArgs, Method, MethodArgs};
+use crate::args::{MapArgs, MethodArgs};
 use crate::progress::Bar;
 use crate::report::{InputSummary, Report};
 use demkit::geometry::torus::Torus;
 use demkit::init::shape::Shape;
-use demkit::metrics::Domain;
 use demkit::population::{PopulationSpec, face_populations_at_scale};
-use demkit::{MapOptions, Population, Surface, TriMesh};
+use demkit::{MapOptions, Method, Population, Surface, TriMesh};
 use std::path::Path;
 use std::time::Instant;
 
@@ -30,8 +29,6 @@ pub struct Computed {
     pub map: demkit::Map,
     /// The target torus of tdem, in the computation's units (as the flat map has it).
     pub torus: Option<Torus>,
-    /// Where the map lies, as the metrics measure it.
-    pub domain: Domain,
 }
 
 impl Computed {
@@ -94,7 +91,7 @@ pub fn compute(
         _ => None,
     };
     let options = MapOptions {
-        method: method.to_library(),
+        method,
         landmarks,
         torus,
         shape,
@@ -110,18 +107,10 @@ pub fn compute(
     let map = demkit::map_with_progress(surface, &population, &options, &mut |p| bar.update(p));
     bar.finish();
     let map = map?;
-    let domain = match &map.domain {
-        demkit::Domain::Sphere => Domain::Sphere,
-        demkit::Domain::Torus { .. } => Domain::Torus {
-            flipped: map.metrics.flipped_triangles,
-        },
-        _ => Domain::Plane,
-    };
     Ok(Computed {
         method,
         map,
         torus: torus.map(|t| t.scaled_by_power_of_two(surface.exponent())),
-        domain,
     })
 }
 
@@ -224,11 +213,9 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
 
 /// `--method auto` by topology; explicit methods are checked by the methods themselves.
 pub fn resolve_method(a: &MethodArgs, boundaries: usize, genus: i64) -> Result<Method, Failure> {
-    let resolved = a
-        .method
-        .to_library()
-        .resolve(boundaries, genus, a.landmarks.is_some())?;
-    Ok(Method::from_library(resolved))
+    Ok(a.method
+        .0
+        .resolve(boundaries, genus, a.landmarks.is_some())?)
 }
 
 /// `--uv-out` writes .obj only (the format with per-corner texture coordinates).

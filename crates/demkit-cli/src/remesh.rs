@@ -4,9 +4,10 @@
 //! density follows the population.
 
 use crate::Failure;
-use crate::args::{Method, RemeshArgs};
+use crate::args::RemeshArgs;
 use crate::map::{check_output_extension, compute, read_valid_mesh, resolve_method, warn_unused};
 use crate::report::InputSummary;
+use demkit::Method;
 use demkit::TriMesh;
 use demkit::apps::remesh::quality::{max_distance_to_surface, quality};
 use demkit::apps::remesh::{Target, check_vertex_count, min_vertices, remesh};

@@ -51,7 +51,56 @@ pub enum Method {
     CircleConformal,
 }
 
+impl Map {
+    /// How the metrics measure a map lying in [`Map::domain`].
+    pub fn metrics_domain(&self) -> crate::metrics::Domain {
+        match self.domain {
+            Domain::Sphere => crate::metrics::Domain::Sphere,
+            Domain::Torus { .. } => crate::metrics::Domain::Torus {
+                flipped: self.metrics.flipped_triangles,
+            },
+            Domain::Plane | Domain::CircleDomain { .. } => crate::metrics::Domain::Plane,
+        }
+    }
+}
+
 impl Method {
+    /// Every method, `Auto` first.
+    pub const ALL: [Method; 10] = [
+        Method::Auto,
+        Method::Dem,
+        Method::DemShape,
+        Method::Sdem,
+        Method::Lsdem,
+        Method::Deq,
+        Method::Ldeq,
+        Method::Tdem,
+        Method::SphericalConformal,
+        Method::CircleConformal,
+    ];
+
+    /// What the method does, in one line.
+    pub fn summary(self) -> &'static str {
+        match self {
+            Method::Auto => {
+                "Pick by topology (disk → dem, holes → deq, sphere → sdem, torus → tdem)"
+            }
+            Method::Dem => {
+                "Density-equalizing map of a disk onto the plane with free boundary (DEM)"
+            }
+            Method::DemShape => "DEM onto a prescribed shape (see --shape)",
+            Method::Sdem => "Spherical DEM of a genus-0 closed surface",
+            Method::Lsdem => "Landmark-aligned spherical DEM",
+            Method::Deq => "Density-equalizing quasiconformal map onto a circle domain",
+            Method::Ldeq => "Landmark-matching DEQ",
+            Method::Tdem => "Toroidal DEM of a genus-one surface",
+            Method::SphericalConformal => {
+                "Spherical conformal parameterization (the SDEM initial map)"
+            }
+            Method::CircleConformal => "Conformal map onto a circle domain (the DEQ initial map)",
+        }
+    }
+
     /// The method's name, as the report and the command line spell it.
     pub fn name(self) -> &'static str {
         match self {
@@ -206,20 +255,16 @@ pub fn map_with_progress(
         topo.genus,
         !options.landmarks.is_empty(),
     )?;
-    let spec = match population {
-        Population::Area => PopulationSpec::Area,
-        Population::Uniform => PopulationSpec::Uniform,
-        Population::Expression(e) => PopulationSpec::Expr(e.clone()),
+    let from_spec = |spec| face_populations_at_scale(&spec, mesh, surface.exponent());
+    let face_population = unit_scale(&match population {
+        Population::Area => from_spec(PopulationSpec::Area)?,
+        Population::Uniform => from_spec(PopulationSpec::Uniform)?,
+        Population::Expression(e) => from_spec(PopulationSpec::Expr(e.clone()))?,
         Population::PerFace(values) => {
             crate::population::check_population(values, mesh.n_faces())?;
-            PopulationSpec::Area
+            values.clone()
         }
-    };
-    let face_population = match population {
-        Population::PerFace(values) => values.clone(),
-        _ => face_populations_at_scale(&spec, mesh, surface.exponent())?,
-    };
-    let face_population = unit_scale(&face_population);
+    });
     let torus = options
         .torus
         .map(|t| t.scaled_by_power_of_two(surface.exponent()));
@@ -228,7 +273,8 @@ pub fn map_with_progress(
         Some(r) => (r.mesh, r.population),
         None => (mesh.clone(), face_population),
     };
-    let (domain, measured) = domain_of(method, &result, &mapped, torus, options.torus);
+    let loops = &topo.boundary_loops;
+    let (domain, measured) = domain_of(method, &result, &mapped, loops, torus, options.torus);
     let metrics = crate::metrics::compute(
         &mapped,
         &population,
@@ -331,12 +377,14 @@ fn run_method(
     }
 }
 
-/// The domain of `result` (a map of `mapped` by `method`; `computed` the torus it was computed
-/// on, `input` the same in input units) and how the metrics measure it.
+/// The domain of `result` (a map of `mapped`, whose boundary loops are `loops`, by `method`;
+/// `computed` the torus it was computed on, `input` the same in input units) and how the
+/// metrics measure it.
 fn domain_of(
     method: Method,
     result: &MapResult,
     mapped: &TriMesh,
+    loops: &[Vec<u32>],
     computed: Option<Torus>,
     input: Option<Torus>,
 ) -> (Domain, crate::metrics::Domain) {
@@ -350,7 +398,7 @@ fn domain_of(
         return (Domain::Sphere, Measured::Sphere);
     }
     if matches!(method, Method::Deq | Method::Ldeq | Method::CircleConformal) {
-        let loops = crate::mesh::topology::topology(mapped).boundary_loops;
+        // Splitting chords adds interior vertices only: the loops are the input's.
         let circles = loops
             .iter()
             .map(|lp| crate::methods::deq::fit_circle(&result.positions, lp))

@@ -317,26 +317,48 @@ fn front_door_options() -> impl Strategy<Value = demkit::MapOptions> {
     use demkit::Method::*;
     (
         prop::sample::select(vec![
-            Auto, Auto, Auto, Dem, DemShape, Sdem, Lsdem, Deq, Ldeq, Tdem, SphericalConformal,
+            Auto,
+            Auto,
+            Auto,
+            Dem,
+            DemShape,
+            Sdem,
+            Lsdem,
+            Deq,
+            Ldeq,
+            Tdem,
+            SphericalConformal,
             CircleConformal,
         ]),
-        prop::collection::vec((0usize..40, [-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0]), 0..3),
+        prop::collection::vec(
+            (0usize..40, [-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0]),
+            0..3,
+        ),
         any::<bool>(),
-        prop::option::weighted(0.2, prop::sample::select(vec![1e-3, 0.1, 0.0, -1.0, f64::NAN, 1e300])),
+        prop::option::weighted(
+            0.2,
+            prop::sample::select(vec![1e-3, 0.1, 0.0, -1.0, f64::NAN, 1e300]),
+        ),
         any::<bool>(),
     )
-        .prop_map(|(method, landmarks, torus, dt, fixed_holes)| demkit::MapOptions {
-            method,
-            // Landmarks only with the methods that take them: given to another method, an
-            // index out of range still reaches the landmark error of the metrics, which
-            // indexes the map with it (a known fault of `map`, outside the readers).
-            landmarks: if matches!(method, Auto | Lsdem | Ldeq) { landmarks } else { Vec::new() },
-            torus: torus.then(|| demkit::geometry::torus::Torus::new(3.0, 1.0).unwrap()),
-            dt,
-            max_iter: Some(support::MAX_ITER),
-            fixed_holes,
-            ..Default::default()
-        })
+        .prop_map(
+            |(method, landmarks, torus, dt, fixed_holes)| demkit::MapOptions {
+                method,
+                // Landmarks only with the methods that take them: given to another method, an
+                // index out of range still reaches the landmark error of the metrics, which
+                // indexes the map with it (a known fault of `map`, outside the readers).
+                landmarks: if matches!(method, Auto | Lsdem | Ldeq) {
+                    landmarks
+                } else {
+                    Vec::new()
+                },
+                torus: torus.then(|| demkit::geometry::torus::Torus::new(3.0, 1.0).unwrap()),
+                dt,
+                max_iter: Some(support::MAX_ITER),
+                fixed_holes,
+                ..Default::default()
+            },
+        )
 }
 
 proptest! {

@@ -50,7 +50,7 @@ pub fn check_map_args(a: &MapArgs) -> Result<(), Failure> {
 pub fn render_map(png: &Path, mesh: &TriMesh, c: &Computed, a: &MapArgs) -> Result<(), Failure> {
     let size = check_size(a.picture.size)?;
     let positions = &c.map.result.positions;
-    let planar = c.domain == Domain::Plane;
+    let planar = c.map.metrics_domain() == Domain::Plane;
     let view =
         parse_view(a.picture.view.as_deref())?.unwrap_or_else(|| default_view(positions, planar));
     let areas = face_areas(&mesh.positions, &mesh.faces);
@@ -76,8 +76,8 @@ pub fn render_histograms(
     a: &MapArgs,
 ) -> Result<(), Failure> {
     let size = check_size(a.picture.size)?;
-    let (initial, _) = map_areas(&c.map.result.initial, &mesh.faces, c.domain);
-    let (last, _) = map_areas(&c.map.result.positions, &mesh.faces, c.domain);
+    let (initial, _) = map_areas(&c.map.result.initial, &mesh.faces, c.map.metrics_domain());
+    let (last, _) = map_areas(&c.map.result.positions, &mesh.faces, c.map.metrics_domain());
     let d0 = histogram::normalized_densities(&c.map.population, &initial);
     let d1 = histogram::normalized_densities(&c.map.population, &last);
     write_png(png, plot::histograms(&d0, &d1, size))

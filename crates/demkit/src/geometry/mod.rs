@@ -5,6 +5,7 @@
 pub mod locate;
 mod plane;
 pub mod rotation;
+pub mod segment;
 pub mod sphere;
 pub mod torus;
 mod vec3;

@@ -7,6 +7,7 @@
 //! triangles; the triangulated unit disk D_T is then glued to its image under the reflection
 //! g(z) = 1/z̄ (4.18) along the unit circle (4.19)–(4.21), truncated at |z| ≤ η, and scaled back.
 
+use crate::geometry::segment::segment_distance;
 use crate::mesh::triangulate::constrained_delaunay;
 
 use crate::{Error, Result};
@@ -689,7 +690,7 @@ impl<'a> BoundaryIndex<'a> {
             .iter()
             .all(|&e| {
                 let (a, q) = (self.poly[e as usize], self.poly[(e as usize + 1) % b]);
-                segment_dist2(p, a, q) >= d2
+                segment_distance(p, a, q).0.powi(2) >= d2
             })
     }
 }
@@ -716,19 +717,6 @@ fn bucket(
         });
     }
     (count, out)
-}
-
-fn segment_dist2(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let (ux, uy) = (b[0] - a[0], b[1] - a[1]);
-    let (wx, wy) = (p[0] - a[0], p[1] - a[1]);
-    let len2 = ux * ux + uy * uy;
-    let t = if len2 > 0.0 {
-        ((wx * ux + wy * uy) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let (dx, dy) = (wx - t * ux, wy - t * uy);
-    dx * dx + dy * dy
 }
 
 /// Twice the signed area of (a, b, c).

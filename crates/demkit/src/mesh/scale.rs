@@ -59,10 +59,13 @@ pub fn scale_positions(positions: &mut [[f64; 3]], k: i32) {
     if k == 0 {
         return;
     }
-    for p in positions.iter_mut() {
-        for x in p.iter_mut() {
-            *x = ldexp(*x, k);
-        }
+    // One power of two when it is a normal number, exact steps otherwise.
+    let factor = (k.abs() <= 1000).then(|| 2f64.powi(k));
+    for x in positions.iter_mut().flatten() {
+        *x = match factor {
+            Some(f) => *x * f,
+            None => ldexp(*x, k),
+        };
     }
 }
 

@@ -277,9 +277,18 @@ fn check_areas(
 ) {
     // The test is relative to the size of the mesh: compute it at unit size, where areas
     // neither overflow nor vanish (an exact rescaling).
-    let mut scaled = positions.to_vec();
-    super::scale::scale_positions(&mut scaled, super::scale::unit_exponent(positions));
-    let positions = &scaled[..];
+    let k = super::scale::normalizing_exponent(positions);
+    let scaled;
+    let positions = if k == 0 {
+        positions
+    } else {
+        scaled = {
+            let mut p = positions.to_vec();
+            super::scale::scale_positions(&mut p, k);
+            p
+        };
+        &scaled[..]
+    };
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for (p, _) in positions.iter().zip(used).filter(|(_, u)| **u) {

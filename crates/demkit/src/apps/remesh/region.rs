@@ -2,7 +2,7 @@
 //! loops (the outer loop minus the holes, even–odd rule), with a bucket grid over the boundary
 //! segments for distance queries.
 
-use super::sampling::dist;
+use crate::geometry::segment::segment_distance;
 
 /// The boundary polylines of a planar map and a grid of their segments.
 pub struct Region {
@@ -105,7 +105,10 @@ impl Region {
         let c = self.cell_of(p);
         self.cells[c[1] * self.dims[0] + c[0]]
             .iter()
-            .any(|&s| segment_distance(p, self.segments[s as usize]).0 < d)
+            .any(|&s| {
+                let [a, b] = self.segments[s as usize];
+                segment_distance(p, a, b).0
+            } < d)
     }
 
     /// The boundary segment nearest to `p` and the parameter of the nearest point on it.
@@ -113,25 +116,13 @@ impl Region {
     pub fn nearest_segment(&self, p: [f64; 2]) -> (usize, f64) {
         let mut best = (usize::MAX, 0.0, f64::INFINITY);
         for (s, seg) in self.segments.iter().enumerate() {
-            let (d, t) = segment_distance(p, *seg);
+            let (d, t) = segment_distance(p, seg[0], seg[1]);
             if d < best.2 {
                 best = (s, t, d);
             }
         }
         (best.0, best.1)
     }
-}
-
-/// The distance from `p` to the segment `[a, b]` and the parameter of the nearest point.
-pub fn segment_distance(p: [f64; 2], [a, b]: [[f64; 2]; 2]) -> (f64, f64) {
-    let e = [b[0] - a[0], b[1] - a[1]];
-    let len2 = e[0] * e[0] + e[1] * e[1];
-    let t = if len2 > 0.0 {
-        (((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (dist(p, [a[0] + t * e[0], a[1] + t * e[1]]), t)
 }
 
 #[cfg(test)]
@@ -168,7 +159,7 @@ mod tests {
         assert!(r.near_boundary([0.0, 0.45], 0.1));
         assert!(!r.near_boundary([0.7, 0.0], 0.1));
         assert!(!r.near_boundary([5.0, 5.0], 0.1));
-        let (d, t) = segment_distance([0.5, 1.0], [[0.0, 0.0], [1.0, 0.0]]);
+        let (d, t) = segment_distance([0.5, 1.0], [0.0, 0.0], [1.0, 0.0]);
         assert!((d - 1.0).abs() < 1e-15 && (t - 0.5).abs() < 1e-15);
         let (s, _) = r.nearest_segment([1.1, 0.01]);
         assert!(s == 0 || s == 63);

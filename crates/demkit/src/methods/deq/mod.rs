@@ -178,20 +178,27 @@ pub(crate) fn circle_domain_map(
     progress: ProgressFn,
 ) -> Result<MapResult> {
     let chords = chords::of_holes(mesh.n_vertices(), &mesh.faces, loops);
-    if chords.is_empty() {
-        return chordless_map(mesh, population, loops, landmarks, config, method, progress);
-    }
-    let refinement = crate::mesh::split::split_edges(mesh, &chords);
-    let refined_population = refinement.population(population);
+    let refined = (!chords.is_empty()).then(|| {
+        let refinement = crate::mesh::split::split_edges(mesh, &chords);
+        let population = refinement.population(population);
+        (refinement, population)
+    });
+    let (surface, surface_population) = match &refined {
+        Some((r, p)) => (&r.mesh, &p[..]),
+        None => (mesh, population),
+    };
     let mut result = chordless_map(
-        &refinement.mesh,
-        &refined_population,
+        surface,
+        surface_population,
         loops,
         landmarks,
         config,
         method,
         progress,
     )?;
+    let Some((refinement, refined_population)) = refined else {
+        return Ok(result);
+    };
     result.notes.insert(
         0,
         format!(
@@ -252,8 +259,7 @@ fn chordless_map(
         x.copy_from_slice(&embedded);
         if size == rounding::Size::Inside {
             return Err(Error::Numerical(
-                "a hole of the initial map could not be made round without folding the map"
-                    .into(),
+                "a hole of the initial map could not be made round without folding the map".into(),
             ));
         }
     }

@@ -157,7 +157,9 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
     // Iterations since the last factorization: after a full step the factorization serves
     // again (a chord step with the new gradient), up to REUSE times.
     let mut stale = usize::MAX;
-    let mut energies = vec![current];
+    // The energy after each of the last STALL_ITERATIONS steps, and before them.
+    let mut recent = std::collections::VecDeque::with_capacity(STALL_ITERATIONS + 2);
+    recent.push_back(current);
     for _ in 0..p.max_iterations {
         outcome.iterations += 1;
         let refactor = stale >= REUSE;
@@ -311,12 +313,13 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
         current = energy(x, &target).unwrap_or(e);
         // Steps cut short by collapsing triangles can leave the decrement large while the
         // energy no longer falls: that is a minimum too.
-        energies.push(current);
-        if let Some(&before) = energies.iter().rev().nth(STALL_ITERATIONS) {
-            if before - current < p.tolerance * current {
-                outcome.converged = true;
-                break;
-            }
+        recent.push_back(current);
+        if recent.len() > STALL_ITERATIONS + 1 {
+            recent.pop_front();
+        }
+        if recent.len() > STALL_ITERATIONS && recent[0] - current < p.tolerance * current {
+            outcome.converged = true;
+            break;
         }
     }
     Ok(outcome)

@@ -12,6 +12,7 @@ use super::circles::Circle;
 use super::layout::Hole;
 use crate::Result;
 use crate::fem::{DirichletSystem, uniform_weights};
+use crate::geometry::segment::polygon_distance;
 use crate::mesh::triangulate::{constrained_delaunay, faces_inside, inside_loops};
 use std::f64::consts::TAU;
 
@@ -55,7 +56,7 @@ impl Patch {
                     circle.center[1] + r * t.sin(),
                 ];
                 if inside_loops(&points, &polygon, q)
-                    && distance_to_polygon(&points[..m], q) > 0.4 * s
+                    && polygon_distance(points[..m].iter().copied(), q) > 0.4 * s
                 {
                     points.push(q);
                 }
@@ -66,7 +67,8 @@ impl Patch {
         }
         if r > -0.3 * s {
             let q = circle.center;
-            if inside_loops(&points, &polygon, q) && distance_to_polygon(&points[..m], q) > 0.3 * s
+            if inside_loops(&points, &polygon, q)
+                && polygon_distance(points[..m].iter().copied(), q) > 0.3 * s
             {
                 points.push(q);
             }
@@ -134,21 +136,4 @@ impl Patch {
             step[v as usize] = [0.0, 0.0];
         }
     }
-}
-
-/// The distance from `q` to the closed polygon `p`.
-fn distance_to_polygon(p: &[[f64; 2]], q: [f64; 2]) -> f64 {
-    (0..p.len())
-        .map(|k| {
-            let (a, b) = (p[k], p[(k + 1) % p.len()]);
-            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-            let l2 = dx * dx + dy * dy;
-            let t = if l2 > 0.0 {
-                (((q[0] - a[0]) * dx + (q[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            (q[0] - a[0] - t * dx).hypot(q[1] - a[1] - t * dy)
-        })
-        .fold(f64::INFINITY, f64::min)
 }

@@ -12,6 +12,7 @@
 use super::circles::Circle;
 use crate::Result;
 use crate::fem::{DirichletSystem, cotangent_weights};
+use crate::geometry::segment::polygon_distance;
 use crate::methods::planar_diffusion::collapse_time;
 use rayon::prelude::*;
 
@@ -111,7 +112,10 @@ pub(crate) fn round_targets(
     };
     let radius = match size {
         Size::Area => (area.abs() / std::f64::consts::PI).sqrt(),
-        Size::Inside => 0.9 * distance_to_edges(x, lp, center),
+        Size::Inside => {
+            let corners = lp.iter().map(|&v| [x[v as usize][0], x[v as usize][1]]);
+            0.9 * polygon_distance(corners, center)
+        }
     };
     let circle = Circle { center, radius };
     let targets = lp
@@ -136,23 +140,6 @@ fn polygon_area_centroid(x: &[[f64; 3]], lp: &[u32]) -> (f64, [f64; 2]) {
         cy += (p[1] + q[1]) * c / 6.0;
     }
     (a, [cx / a, cy / a])
-}
-
-/// The distance from `c` to the nearest edge of the polygon `lp`.
-fn distance_to_edges(x: &[[f64; 3]], lp: &[u32], c: [f64; 2]) -> f64 {
-    (0..lp.len())
-        .map(|k| {
-            let (a, b) = (x[lp[k] as usize], x[lp[(k + 1) % lp.len()] as usize]);
-            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-            let l2 = dx * dx + dy * dy;
-            let t = if l2 > 0.0 {
-                (((c[0] - a[0]) * dx + (c[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            (c[0] - a[0] - t * dx).hypot(c[1] - a[1] - t * dy)
-        })
-        .fold(f64::INFINITY, f64::min)
 }
 
 /// True when every edge of the polygon `lp` turns the same way around `c` (so the polygon is
