@@ -19,6 +19,8 @@ struct RegionEntry {
     value: f64,
     input_area: f64,
     output_area: f64,
+    target_share: f64,
+    output_share: f64,
     ratio_error: f64,
 }
 
@@ -60,6 +62,9 @@ pub fn run(a: &CartogramArgs) -> Result<u8, Failure> {
     if a.max_iter == Some(0) {
         return Err(Failure::input("--max-iter must be at least 1"));
     }
+    if let Some(n) = a.faces {
+        cartogram::check_max_faces(n)?;
+    }
     crate::paths::check(
         &crate::paths::given(&[("REGIONS", Some(&a.regions))]),
         &crate::paths::given(&[
@@ -71,6 +76,7 @@ pub fn run(a: &CartogramArgs) -> Result<u8, Failure> {
     let (fc, set) = cartogram::load(&a.regions, &a.value, a.sphere)?;
     let config = Config {
         max_iter: a.max_iter,
+        max_faces: a.faces.unwrap_or(cartogram::DEFAULT_MAX_FACES),
         ..Config::default()
     };
     let label = a.regions.display().to_string();
@@ -148,6 +154,8 @@ fn report(c: &Cartogram, sphere: bool, converged: bool, total: f64) -> Report {
                 value: r.value,
                 input_area: r.input_area,
                 output_area: r.output_area,
+                target_share: r.target_share,
+                output_share: r.output_share,
                 ratio_error: r.ratio_error,
             })
             .collect(),

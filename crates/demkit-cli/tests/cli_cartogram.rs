@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::Scratch;
+use common::{Scratch, budget};
 use serde_json::{Value, json};
 
 type Ring = Vec<[f64; 2]>;
@@ -551,4 +551,179 @@ fn refusals_exit_2_naming_the_feature() {
         ])
         .input_error();
     assert!(e.contains(".svg"), "{e}");
+}
+
+/// An nx × ny grid of touching unit squares with values over 1..10 (log-uniform), the shape
+/// of a choropleth map of many small regions.
+fn many_squares(nx: usize, ny: usize) -> Value {
+    let mut rng = Lcg(11);
+    let mut features = Vec::with_capacity(nx * ny);
+    for i in 0..nx {
+        for j in 0..ny {
+            let g = json!({"type": "Polygon",
+                "coordinates": [ring(&square(i as f64, j as f64, 1.0))]});
+            features.push(feature(&format!("s{i}_{j}"), 10f64.powf(rng.next()), g));
+        }
+    }
+    json!({"type": "FeatureCollection", "features": features})
+}
+
+/// Runs a cartogram of `input` with `extra` arguments; returns the report and the seconds.
+fn timed_cartogram(s: &Scratch, input: &Value, extra: &[&str]) -> (Value, f64) {
+    s.write("many.geojson", input.to_string());
+    let mut args = vec![
+        "cartogram",
+        "many.geojson",
+        "--value",
+        "pop",
+        "--out",
+        "many-out.geojson",
+        "--report",
+        "many.json",
+        "--quiet",
+    ];
+    args.extend_from_slice(extra);
+    let t0 = std::time::Instant::now();
+    s.ok(&args);
+    let seconds = t0.elapsed().as_secs_f64();
+    (serde_json::from_str(&s.read("many.json")).unwrap(), seconds)
+}
+
+#[test]
+fn the_mesh_follows_the_regions_within_the_cap() {
+    let s = Scratch::new("carto_cap");
+    // 400 squares under a cap of 24 000 faces: each square gets a few dozen triangles instead
+    // of the 200 asked for (80 000 in all), and the mesh stays within the cap's slack.
+    let input = many_squares(20, 20);
+    let (report, seconds) = timed_cartogram(&s, &input, &["--faces", "24000"]);
+    let faces = report["mesh"]["faces"].as_u64().unwrap();
+    eprintln!(
+        "{faces} faces, {seconds:.1} s, median {} worst {}",
+        report["ratio_error_median"], report["ratio_error_worst"]
+    );
+    assert!((12_000..=26_400).contains(&faces), "{faces}");
+    let notes = &report["notes"];
+    assert!(
+        notes
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|n| n.as_str().unwrap().contains("within the cap of 24000")),
+        "{notes}"
+    );
+    assert_eq!(report["flipped_triangles"], 0);
+    let (median, worst) = (&report["ratio_error_median"], &report["ratio_error_worst"]);
+    assert!(median.as_f64().unwrap() < 0.02, "{median}");
+    assert!(worst.as_f64().unwrap() < 0.15, "{worst}");
+    assert!(seconds < budget(20.0), "{seconds} s");
+    // The shares: the targets sum to 1, and so do the areas reached.
+    let regions = report["regions"].as_array().unwrap();
+    let target: f64 = regions
+        .iter()
+        .map(|r| r["target_share"].as_f64().unwrap())
+        .sum();
+    let reached: f64 = regions
+        .iter()
+        .map(|r| r["output_share"].as_f64().unwrap())
+        .sum();
+    assert!((target - 1.0).abs() < 1e-9 && (reached - 1.0).abs() < 1e-9);
+}
+
+#[test]
+#[ignore = "heavy: 10 000 regions (about 25 s in release on a 2-core machine)"]
+fn ten_thousand_regions_finish_within_a_minute() {
+    let s = Scratch::new("carto_10k");
+    let input = many_squares(100, 100);
+    let (report, seconds) = timed_cartogram(&s, &input, &[]);
+    let faces = report["mesh"]["faces"].as_u64().unwrap();
+    eprintln!(
+        "{faces} faces, {seconds:.1} s, {} iterations in {} rounds, median {} worst {}",
+        report["iterations"],
+        report["rounds"],
+        report["ratio_error_median"],
+        report["ratio_error_worst"]
+    );
+    assert!(seconds < budget(60.0), "{seconds} s");
+    assert!(faces <= 165_000, "{faces}");
+    assert_eq!(report["flipped_triangles"], 0);
+    assert_eq!(report["regions"].as_array().unwrap().len(), 10_000);
+    let (median, worst) = (&report["ratio_error_median"], &report["ratio_error_worst"]);
+    assert!(median.as_f64().unwrap() < 0.05, "{median}");
+    assert!(worst.as_f64().unwrap() < 0.3, "{worst}");
+}
+
+#[test]
+fn a_mesh_beyond_memory_is_refused_up_front_with_the_estimate() {
+    let s = Scratch::new("carto_huge");
+    s.write("g.geojson", grid(3).to_string());
+    let args = |faces: &'static str| {
+        vec![
+            "cartogram",
+            "g.geojson",
+            "--value",
+            "pop",
+            "--out",
+            "o.geojson",
+            "--faces",
+            faces,
+        ]
+    };
+    let t0 = std::time::Instant::now();
+    s.run(&args("1000000000"))
+        .input_error_naming(&["--faces 1000000000", "GB", "at most 5000000"]);
+    assert!(t0.elapsed().as_secs_f64() < 5.0, "refused before any work");
+    s.run(&args("10"))
+        .input_error_naming(&["--faces", "at least 1000"]);
+    assert!(!s.path("o.geojson").exists());
+}
+
+/// Checks a cartogram of the 5×5 grid scaled by `k`: exit 0, the output in the input's units
+/// (it covers about the same box), and, brought back to unit size, the acceptance figures.
+fn scaled_grid_works(k: f64, label: &str) {
+    let s = Scratch::new(label);
+    let unit = grid(5);
+    let input = map_positions(&unit, &|p| [k * p[0], k * p[1]]);
+    let (out, report) = run_cartogram(&s, &input, &[]);
+    assert_eq!(report["flipped_triangles"], 0);
+    let bounds = std::cell::Cell::new(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]));
+    map_positions(&out, &|p| {
+        assert!(p[0].is_finite() && p[1].is_finite(), "{p:?}");
+        p
+    });
+    let back = map_positions(&out, &|p| [p[0] / k, p[1] / k]);
+    map_positions(&back, &|p| {
+        let (mut lo, mut hi) = bounds.get();
+        for c in 0..2 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+        bounds.set((lo, hi));
+        p
+    });
+    let (lo, hi) = bounds.get();
+    // The unit grid spans [0, 5]²; its cartogram stays near that box.
+    assert!(
+        lo[0] > -2.0 && lo[1] > -2.0 && hi[0] < 7.0 && hi[1] < 7.0,
+        "{lo:?} {hi:?}"
+    );
+    let f = figures(&unit, &back);
+    eprintln!("{k:e}: {f:?}");
+    assert_eq!(
+        (f.crossings, f.contained, f.boundary_loops),
+        (0, 0, 2),
+        "{f:?}"
+    );
+    assert!(f.median <= 0.05 && f.worst <= 0.15, "{f:?}");
+    let worst = report["ratio_error_worst"].as_f64().unwrap();
+    assert!((worst - f.worst).abs() < 1e-6, "{worst} vs {f:?}");
+}
+
+#[test]
+fn squares_of_side_1e300_are_computed_like_unit_squares() {
+    scaled_grid_works(1e300, "carto_1e300");
+}
+
+#[test]
+fn squares_of_side_1e_300_are_computed_like_unit_squares() {
+    scaled_grid_works(1e-300, "carto_1e-300");
 }

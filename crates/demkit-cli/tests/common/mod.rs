@@ -327,3 +327,14 @@ pub fn json_file(path: &Path) -> serde_json::Value {
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
     json(&text)
 }
+
+/// A time budget: `seconds` times `DEMKIT_TIME_SCALE` (default 1, at least 1), as the real-data
+/// tests of the library apply it.
+pub fn budget(seconds: f64) -> f64 {
+    let scale = std::env::var("DEMKIT_TIME_SCALE")
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+        .filter(|s| *s >= 1.0)
+        .unwrap_or(1.0);
+    seconds * scale
+}

@@ -184,7 +184,7 @@ pub fn replace_coordinates(fc: &FeatureCollection, polygons: &[Vec<Polygon>]) ->
 /// A GeoJSON ring: closed, counter-clockwise when `exterior`, clockwise otherwise.
 fn closed_ring(ring: &[[f64; 2]], exterior: bool) -> Vec<Position> {
     let mut pts: Vec<[f64; 2]> = ring.to_vec();
-    if (super::regions::ring_area(&pts) > 0.0) != exterior {
+    if (super::regions::ring_orientation(&pts) > 0.0) != exterior {
         pts.reverse();
     }
     if let Some(&first) = pts.first() {

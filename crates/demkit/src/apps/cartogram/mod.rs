@@ -27,11 +27,73 @@ pub(crate) const MIN_CORRECTION: f64 = 0.5;
 /// closing repetition.
 pub type Polygon = Vec<Vec<[f64; 2]>>;
 
+/// The most faces a cartogram's mesh may have ...
+pub const MAX_FACES: usize = 5_000_000;
+
+/// ... at about this many bytes of working memory per face (the triangulation, the map's own
+/// sea and the Cholesky factor of its diffusion, measured at 1.4–1.7 kB).
+pub const BYTES_PER_FACE: usize = 2_000;
+
+/// The fewest faces a cap may ask for.
+pub const MIN_FACES: usize = 1_000;
+
+/// The memory a mesh of `faces` faces needs, in GB.
+fn gigabytes(faces: f64) -> f64 {
+    faces * BYTES_PER_FACE as f64 / 1e9
+}
+
+/// Refuses a cap on the mesh ([`Config::max_faces`], `--faces`) outside
+/// [[`MIN_FACES`], [`MAX_FACES`]], with the memory a cap beyond it would take.
+pub fn check_max_faces(n: usize) -> crate::Result<()> {
+    if n > MAX_FACES {
+        return Err(crate::Error::Argument(format!(
+            "--faces {n} would need about {:.0} GB of memory; at most {MAX_FACES} faces",
+            gigabytes(n as f64)
+        )));
+    }
+    if n < MIN_FACES {
+        return Err(crate::Error::Argument(format!(
+            "--faces must be at least {MIN_FACES}, got {n}"
+        )));
+    }
+    Ok(())
+}
+
+/// The refusal of regions whose mesh would exceed [`MAX_FACES`] even at its coarsest
+/// (`least` faces: every region vertex, the points on the polygons' edges and a few inside
+/// each; infinite when only known to be beyond [`MAX_FACES`]), with the estimate.
+pub(crate) fn mesh_too_large(set: &RegionSet, least: f64, path: &str) -> crate::Error {
+    let polygons: usize = set.regions.iter().map(|r| r.polygons.len()).sum();
+    let size = if least.is_finite() {
+        format!(
+            "about {least:.0} faces, about {:.0} GB of memory",
+            gigabytes(least)
+        )
+    } else {
+        format!("more than {MAX_FACES} faces")
+    };
+    crate::Error::Format {
+        path: path.to_string(),
+        msg: format!(
+            "the regions ({polygons} polygons, {} vertices) need a mesh of at least {size}; at \
+             most {MAX_FACES} faces",
+            set.points.len()
+        ),
+    }
+}
+
 /// Cartogram settings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Config {
-    /// About how many triangles the regions and their sea are cut into.
+    /// About how many triangles would fill the regions and their sea at the base spacing,
+    /// where no polygon asks for finer (see [`triangulate::Resolution`]).
     pub target_faces: usize,
+    /// Every polygon gets about this many triangles where [`Config::max_faces`] allows.
+    pub polygon_faces: usize,
+    /// The cap on the mesh: with many small polygons, each gets fewer triangles so that the
+    /// mesh stays under about this many (it always has every region vertex). At most
+    /// [`MAX_FACES`].
+    pub max_faces: usize,
     /// DEM's iteration limit per round (`None`: DEM's default).
     pub max_iter: Option<usize>,
     /// At most this many DEM rounds (each starts from the map the previous one reached).
@@ -44,10 +106,26 @@ pub struct Config {
     pub patience: usize,
 }
 
+/// The default cap on the mesh (see [`Config::max_faces`]).
+pub const DEFAULT_MAX_FACES: usize = 150_000;
+
+impl Config {
+    /// The mesh resolution these settings ask for.
+    pub fn resolution(&self) -> triangulate::Resolution {
+        triangulate::Resolution {
+            base_faces: self.target_faces,
+            polygon_faces: self.polygon_faces,
+            max_faces: self.max_faces,
+        }
+    }
+}
+
 impl Default for Config {
     fn default() -> Self {
         Self {
             target_faces: 20_000,
+            polygon_faces: 200,
+            max_faces: DEFAULT_MAX_FACES,
             max_iter: None,
             rounds: 10,
             tolerance: 0.01,
@@ -63,10 +141,15 @@ pub struct RegionFigures {
     pub label: String,
     /// Its value.
     pub value: f64,
-    /// Its area before.
+    /// Its area before, in input units (infinite when beyond the range of `f64`, as for
+    /// coordinates above about 1e154).
     pub input_area: f64,
-    /// Its area after.
+    /// Its area after, likewise.
     pub output_area: f64,
+    /// Its value's share of all the values (the share of the total area it should get).
+    pub target_share: f64,
+    /// Its share of the regions' total area after.
+    pub output_share: f64,
     /// (output area / value) / mean over the regions of (output area / value) − 1.
     pub ratio_error: f64,
 }
@@ -163,6 +246,13 @@ pub fn ratio_errors_of_areas(values: &[f64], areas: &[f64]) -> Vec<f64> {
     ratios.iter().map(|r| r / mean - 1.0).collect()
 }
 
+/// The values divided by the largest one: only their ratios matter, and sums of them cannot
+/// overflow (values up to the largest `f64` are accepted).
+pub(crate) fn unit_values(values: &[f64]) -> Vec<f64> {
+    let max = values.iter().fold(0.0f64, |m, &v| m.max(v));
+    values.iter().map(|v| v / max).collect()
+}
+
 /// Median and maximum of |e|.
 fn median_and_worst(errors: &[f64]) -> (f64, f64) {
     let mut a: Vec<f64> = errors.iter().map(|e| e.abs()).collect();
@@ -179,26 +269,65 @@ fn median_and_worst(errors: &[f64]) -> (f64, f64) {
     (median, a[n - 1])
 }
 
-/// Assembles the result with planar areas.
-fn finish(set: &RegionSet, coordinates: Vec<Vec<Polygon>>, run: Run) -> Cartogram {
+/// Assembles the result with planar areas: `coordinates` in the set's normalised frame, the
+/// figures from them, then the coordinates taken back to input units.
+///
+/// Errors: [`crate::Error::Format`] when an output position lies beyond the range of `f64`
+/// (an input reaching within a small factor of ±1.8e308).
+fn finish(
+    set: &RegionSet,
+    coordinates: Vec<Vec<Polygon>>,
+    run: Run,
+    path: &str,
+) -> crate::Result<Cartogram> {
     let input = set.coordinates();
     let area = |c: &Vec<Polygon>| c.iter().map(|p| polygon_area(p)).sum::<f64>();
     let out_areas: Vec<f64> = coordinates.iter().map(area).collect();
     let in_areas: Vec<f64> = input.iter().map(area).collect();
-    figures(set, coordinates, &in_areas, &out_areas, run)
+    let frame = set.frame;
+    let mut coordinates = coordinates;
+    for p in coordinates.iter_mut().flatten().flatten().flatten() {
+        *p = frame.to_input(*p);
+        if !(p[0].is_finite() && p[1].is_finite()) {
+            return Err(crate::Error::Format {
+                path: path.to_string(),
+                msg: "the cartogram's coordinates would lie beyond the range of f64 (the \
+                      regions reach too close to ±1.8e308)"
+                    .into(),
+            });
+        }
+    }
+    let to_input = |a: &[f64]| {
+        a.iter()
+            .map(|&a| frame.area_to_input(a))
+            .collect::<Vec<_>>()
+    };
+    Ok(figures(
+        set,
+        coordinates,
+        (&to_input(&in_areas), &to_input(&out_areas)),
+        &out_areas,
+        run,
+    ))
 }
 
-/// Assembles the result from the regions' areas before and after.
+/// Assembles the result from the regions' areas before and after (`areas`, as reported) and
+/// the areas the errors and shares are measured on (`measured`, the output areas in any unit
+/// that keeps them finite).
 pub(crate) fn figures(
     set: &RegionSet,
     coordinates: Vec<Vec<Polygon>>,
-    in_areas: &[f64],
-    out_areas: &[f64],
+    areas: (&[f64], &[f64]),
+    measured: &[f64],
     run: Run,
 ) -> Cartogram {
     let values: Vec<f64> = set.regions.iter().map(|r| r.value).collect();
-    let errors = ratio_errors_of_areas(&values, out_areas);
+    let errors = ratio_errors_of_areas(&values, measured);
     let (median_error, worst_error) = median_and_worst(&errors);
+    // Shares of values scaled to a largest value of 1, so that the sum cannot overflow.
+    let unit = unit_values(&values);
+    let value_total: f64 = unit.iter().sum();
+    let area_total: f64 = measured.iter().sum();
     let regions = set
         .regions
         .iter()
@@ -206,8 +335,10 @@ pub(crate) fn figures(
         .map(|(i, r)| RegionFigures {
             label: r.label.clone(),
             value: r.value,
-            input_area: in_areas[i],
-            output_area: out_areas[i],
+            input_area: areas.0[i],
+            output_area: areas.1[i],
+            target_share: unit[i] / value_total,
+            output_share: measured[i] / area_total,
             ratio_error: errors[i],
         })
         .collect();

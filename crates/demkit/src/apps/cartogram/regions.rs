@@ -2,6 +2,10 @@
 //! (positions closer than a tolerance are merged, so a border shared by two regions is made of
 //! the same vertices and edges on both sides), a vertex of one region lying on an edge of
 //! another splits that edge (no T-junctions), and no two edges cross.
+//!
+//! The graph is held in a normalised frame ([`Frame`]): the input's bounding box centred at
+//! the origin with its larger half-side 1, so that squares of side 1e300 or 1e-300 are
+//! computed on the same numbers as unit squares and only the output is scaled back.
 
 use super::Polygon;
 use super::geojson::RawRegion;
@@ -24,10 +28,65 @@ pub struct Region {
 /// All regions over one shared vertex list.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RegionSet {
-    /// The distinct vertices.
+    /// The distinct vertices, in the normalised frame (see [`RegionSet::frame`]).
     pub points: Vec<[f64; 2]>,
     /// The regions, in feature order.
     pub regions: Vec<Region>,
+    /// The similarity from input coordinates to those of [`RegionSet::points`].
+    pub frame: Frame,
+}
+
+/// A similarity of the plane that takes input coordinates to a normalised frame:
+/// `q = (p − centre) / scale`. Built from a bounding box, it puts the box's centre at the
+/// origin and its larger half-side at 1, with every step free of overflow and underflow for
+/// any finite box of positive extent.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Frame {
+    /// The input position that becomes the origin.
+    pub centre: [f64; 2],
+    /// The input length that becomes 1.
+    pub scale: f64,
+}
+
+impl Frame {
+    /// The identity (input coordinates are already normalised).
+    pub const IDENTITY: Frame = Frame {
+        centre: [0.0, 0.0],
+        scale: 1.0,
+    };
+
+    /// The frame of the box `lo`–`hi` (centre at the origin, larger half-side 1), or `None`
+    /// when the box is not finite or has no extent.
+    pub fn of_box(lo: [f64; 2], hi: [f64; 2]) -> Option<Frame> {
+        // Halves first: (hi − lo) may overflow, hi/2 − lo/2 cannot.
+        let centre = [0.5 * lo[0] + 0.5 * hi[0], 0.5 * lo[1] + 0.5 * hi[1]];
+        let scale = (0.5 * hi[0] - 0.5 * lo[0]).max(0.5 * hi[1] - 0.5 * lo[1]);
+        (scale > 0.0 && scale.is_finite() && centre.iter().all(|c| c.is_finite()))
+            .then_some(Frame { centre, scale })
+    }
+
+    /// Input coordinates → normalised ones.
+    pub fn to_unit(&self, p: [f64; 2]) -> [f64; 2] {
+        [
+            (p[0] - self.centre[0]) / self.scale,
+            (p[1] - self.centre[1]) / self.scale,
+        ]
+    }
+
+    /// Normalised coordinates → input ones (not finite when the result lies beyond the range
+    /// of `f64`).
+    pub fn to_input(&self, q: [f64; 2]) -> [f64; 2] {
+        [
+            self.centre[0] + self.scale * q[0],
+            self.centre[1] + self.scale * q[1],
+        ]
+    }
+
+    /// A normalised area in input units (infinite beyond the range of `f64`, as for squares
+    /// of side 1e300, whose area 1e600 has no `f64`).
+    pub fn area_to_input(&self, a: f64) -> f64 {
+        a * self.scale * self.scale
+    }
 }
 
 /// Twice the signed area of a closed ring given without closing point, halved: positive when
@@ -40,6 +99,33 @@ pub fn ring_area(ring: &[[f64; 2]]) -> f64 {
         s += p[0] * q[1] - p[1] * q[0];
     }
     0.5 * s
+}
+
+/// +1 when the ring runs counter-clockwise, −1 when clockwise, 0 when its area vanishes;
+/// decided on the ring moved to its first point and scaled to unit size, so that no product
+/// overflows or underflows whatever the coordinates' magnitude.
+pub fn ring_orientation(ring: &[[f64; 2]]) -> f64 {
+    let Some(&o) = ring.first() else { return 0.0 };
+    // Halved offsets cannot overflow; their largest magnitude sets the scale.
+    let half: Vec<[f64; 2]> = ring
+        .iter()
+        .map(|p| [0.5 * p[0] - 0.5 * o[0], 0.5 * p[1] - 0.5 * o[1]])
+        .collect();
+    let s = half
+        .iter()
+        .fold(0.0f64, |m, d| m.max(d[0].abs()).max(d[1].abs()));
+    if !(s > 0.0 && s.is_finite()) {
+        return 0.0;
+    }
+    let unit: Vec<[f64; 2]> = half.iter().map(|d| [d[0] / s, d[1] / s]).collect();
+    let a = ring_area(&unit);
+    if a > 0.0 {
+        1.0
+    } else if a < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
 }
 
 /// The area of a polygon (exterior minus holes, whatever the rings' orientations).
@@ -62,11 +148,13 @@ pub fn polygon_area(rings: &[Vec<[f64; 2]>]) -> f64 {
 const SNAP: f64 = 1e-9;
 
 impl RegionSet {
-    /// Builds the shared vertex graph of `raw`; `path` names the file in messages.
+    /// Builds the shared vertex graph of `raw` in its normalised frame ([`Frame::of_box`] of
+    /// the regions' bounding box); `path` names the file in messages.
     ///
-    /// Errors ([`Error::Format`], naming the feature and ring): a ring with fewer than three
-    /// distinct points or zero area, edges that cross (within one region: the region's
-    /// boundary crosses itself; between two: the regions overlap).
+    /// Errors ([`Error::Format`], naming the feature and ring): all positions equal (the
+    /// regions have no extent), a ring with fewer than three distinct points or zero area,
+    /// edges that cross (within one region: the region's boundary crosses itself; between
+    /// two: the regions overlap).
     pub fn build(raw: &[RawRegion], path: &str) -> Result<RegionSet> {
         let err = |msg: String| Error::Format {
             path: path.to_string(),
@@ -76,10 +164,12 @@ impl RegionSet {
             raw.iter()
                 .flat_map(|r| r.polygons.iter().flatten().flatten().copied()),
         );
+        let frame = Frame::of_box(lo, hi).ok_or_else(|| {
+            err("the regions have no extent (all their positions are equal)".into())
+        })?;
+        // In the normalised frame the bounding box is [-1, 1] along its larger side.
+        let (lo, hi) = (frame.to_unit(lo), frame.to_unit(hi));
         let diag = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt();
-        if !(diag > 0.0 && diag.is_finite()) {
-            return Err(err("the regions have no extent".into()));
-        }
         let tol = SNAP * diag;
         let mut snap = Snapper::new(tol);
         let mut regions = Vec::with_capacity(raw.len());
@@ -90,7 +180,7 @@ impl RegionSet {
                 for (j, ring) in rings.iter().enumerate() {
                     let mut idx: Vec<usize> = Vec::with_capacity(ring.len());
                     for &p in ring {
-                        let v = snap.insert(p);
+                        let v = snap.insert(frame.to_unit(p));
                         if idx.last() != Some(&v) {
                             idx.push(v);
                         }
@@ -128,6 +218,7 @@ impl RegionSet {
         let mut set = RegionSet {
             points: snap.points,
             regions,
+            frame,
         };
         set.split_t_junctions(tol);
         set.check_crossings(path)?;
@@ -190,7 +281,15 @@ impl RegionSet {
             .collect()
     }
 
-    /// The coordinates of every region's rings.
+    /// The vertices in input coordinates.
+    pub fn input_points(&self) -> Vec<[f64; 2]> {
+        self.points
+            .iter()
+            .map(|&p| self.frame.to_input(p))
+            .collect()
+    }
+
+    /// The coordinates of every region's rings, in the normalised frame.
     pub fn coordinates(&self) -> Vec<Vec<Polygon>> {
         self.regions
             .iter()
@@ -591,6 +690,35 @@ mod tests {
             e.to_string().contains("fewer than 3 distinct points"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn extreme_scales_are_normalised_and_orientations_kept() {
+        for k in [1e300, 1e-300, 1e-310] {
+            let sq: Vec<[f64; 2]> = square(3.0 * k, -2.0 * k, k)[..4].to_vec();
+            let set = RegionSet::build(&[raw("feature 0", vec![vec![sq.clone()]])], "t").unwrap();
+            // The box [-1, 1]², and back to the input, within rounding.
+            let (lo, hi) = bbox(set.points.iter().copied());
+            let near = |a: [f64; 2], b: f64| (a[0] - b).abs() < 1e-12 && (a[1] - b).abs() < 1e-12;
+            assert!(near(lo, -1.0) && near(hi, 1.0), "{k:e}: {lo:?} {hi:?}");
+            for (p, q) in set.input_points().iter().zip(&sq) {
+                let tol = 1e-14 * k + 4.0 * f64::from_bits(1); // a few units of the last place
+                assert!(
+                    (p[0] - q[0]).abs() <= tol && (p[1] - q[1]).abs() <= tol,
+                    "{p:?} {q:?}"
+                );
+            }
+            assert_eq!(ring_orientation(&sq), 1.0, "{k:e}");
+            let mut cw = sq.clone();
+            cw.reverse();
+            assert_eq!(ring_orientation(&cw), -1.0, "{k:e}");
+        }
+        // Coordinates near the largest f64: the frame's centre and scale stay finite.
+        let f = Frame::of_box([-1.7e308, -1.0], [1.7e308, 1.0]).unwrap();
+        assert_eq!(f.to_unit([1.7e308, 0.0]), [1.0, 0.0]);
+        assert!(Frame::of_box([1.0, 1.0], [1.0, 1.0]).is_none());
+        let e = RegionSet::build(&[raw("feature 0", vec![vec![vec![[2.0, 2.0]; 4]]])], "t");
+        assert!(e.unwrap_err().to_string().contains("no extent"));
     }
 
     #[test]

@@ -92,10 +92,11 @@ fn build(set: &RegionSet, target_faces: usize, path: &str) -> Result<GlobeMesh> 
         msg,
     };
     // Region vertices on the sphere; positions that meet there (a pole, ±180°) merged.
+    let lon_lat = set.input_points();
     let mut points: Vec<[f64; 3]> = Vec::new();
     let mut merged = Vec::with_capacity(set.points.len());
     let mut seen: HashMap<[i64; 3], usize> = HashMap::new();
-    for &p in &set.points {
+    for &p in &lon_lat {
         let u = to_unit(p);
         let key = u.map(|c| (c * 1e10).round() as i64);
         let v = *seen.entry(key).or_insert_with(|| {
@@ -175,7 +176,7 @@ fn build(set: &RegionSet, target_faces: usize, path: &str) -> Result<GlobeMesh> 
             !set.regions.iter().any(|r| {
                 r.polygons
                     .iter()
-                    .any(|rings| inside_loops(&set.points, rings, ll))
+                    .any(|rings| inside_loops(&lon_lat, rings, ll))
             })
         })
         .ok_or_else(|| fmt("the regions cover the whole globe: no sea is left".into()))?;
@@ -277,7 +278,7 @@ pub fn run(
             "the globe's triangulation has flipped faces".into(),
         ));
     }
-    let values: Vec<f64> = set.regions.iter().map(|r| r.value).collect();
+    let values = super::unit_values(&set.regions.iter().map(|r| r.value).collect::<Vec<_>>());
     let areas0 = face_areas(&mesh.points, &mesh.faces);
     let region_areas = |areas: &[f64]| {
         let mut s = vec![0.0; values.len()];
@@ -338,7 +339,13 @@ pub fn run(
         notes,
         time_s: t0.elapsed().as_secs_f64(),
     };
-    Ok(figures(set, coordinates, &in_areas, &out_areas, run))
+    Ok(figures(
+        set,
+        coordinates,
+        (&in_areas, &out_areas),
+        &out_areas,
+        run,
+    ))
 }
 
 /// The mapped rings in longitude/latitude, each longitude unwrapped to stay within 180° of the
@@ -356,7 +363,7 @@ fn lon_lat_rings(set: &RegionSet, mesh: &GlobeMesh, positions: &[[f64; 3]]) -> V
                         .iter()
                         .zip(input)
                         .map(|(ring, inring)| {
-                            let mut prev = set.points[inring[0]][0];
+                            let mut prev = set.frame.to_input(set.points[inring[0]])[0];
                             ring.iter()
                                 .map(|&v| {
                                     let mut p = to_lon_lat(positions[v]);
