@@ -9,6 +9,7 @@
 //! input vertex, followed by the mesh vertices the triangulation put on its edge to the next
 //! one (a straight edge becomes a polyline). The ring structure (polygons, rings) is kept.
 
+mod buckets;
 pub mod geojson;
 pub mod planar;
 pub mod regions;

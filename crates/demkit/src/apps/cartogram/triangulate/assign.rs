@@ -1,6 +1,7 @@
 //! Which region each face of the cartogram mesh lies in.
 
-use super::super::regions::{Buckets, RegionSet, bbox};
+use super::super::buckets::Buckets;
+use super::super::regions::{RegionSet, bbox};
 use crate::mesh::triangulate::inside_loops;
 use crate::{Error, Result};
 

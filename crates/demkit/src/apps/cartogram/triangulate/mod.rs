@@ -16,7 +16,8 @@
 mod assign;
 mod sizing;
 
-use super::regions::{Buckets, RegionSet, bbox, max2, min2};
+use super::buckets::Buckets;
+use super::regions::{RegionSet, bbox, max2, min2};
 use crate::geometry::segment::segment_distance;
 use crate::mesh::triangulate::{constrained_delaunay, inside_loops};
 use crate::{Error, Result};
