@@ -62,7 +62,7 @@ impl ValueEnum for MethodArg {
 }
 
 /// How a density-equalizing map is computed: the options shared by `map` and `remesh`.
-#[derive(Args, Debug)]
+#[derive(Args, Debug, Clone)]
 pub struct MethodArgs {
     /// The method.
     #[arg(long, value_enum, default_value = "auto")]

@@ -85,7 +85,12 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
         )));
     }
 
-    let c = compute(&surface, method, &a.m, a.quiet)?;
+    // The vertex spacing follows the map's density: DEQ puts it first unless told otherwise.
+    let mut m = a.m.clone();
+    if matches!(method, Method::Deq | Method::Ldeq) && m.alpha.is_none() {
+        m.alpha = Some(demkit::apps::remesh::DEQ_ALPHA);
+    }
+    let c = compute(&surface, method, &m, a.quiet)?;
     let metrics = &c.map.metrics;
     let result = &c.map.result;
     let t_map = t0.elapsed().as_secs_f64();

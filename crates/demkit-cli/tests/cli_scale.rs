@@ -53,15 +53,20 @@ fn huge_and_tiny_meshes_of_every_topology_are_mapped() {
     s.generate(&["icosphere", "--out", "sphere.obj"]);
     s.generate(&["disk-holes", "--hole", "0.3:0:0.2", "--out", "holes.obj"]);
     for factor in [1e300, 1e-200] {
-        for (mesh, population) in [
-            ("grid.obj", "1+(x>y)"),
-            ("sphere.obj", "area*(1+(z>0))"),
-            ("holes.obj", "area*(1+(x>0))"),
+        // DEQ runs at α = 0.3 here: at its default α = 2 the population-weighted initial map
+        // already does most of the equalizing on this mild step (Var 0.033 -> 0.022), and what
+        // is checked is the scale, so the run must move the density well away from the start.
+        for (mesh, population, extra) in [
+            ("grid.obj", "1+(x>y)", &[][..]),
+            ("sphere.obj", "area*(1+(z>0))", &[][..]),
+            ("holes.obj", "area*(1+(x>0))", &["--alpha", "0.3"][..]),
         ] {
             let name = format!("{factor:e}-{mesh}");
             scaled_copy(&s, mesh, &name, factor);
             // The expression's x, y, z are in input units (its comparisons hold at any scale).
-            maps_cleanly(&s, &name, &["--population", population]);
+            let mut args = vec!["--population", population];
+            args.extend_from_slice(extra);
+            maps_cleanly(&s, &name, &args);
         }
     }
 }

@@ -105,6 +105,20 @@ pub fn barely_moved(m: &Metrics) -> Option<String> {
     ))
 }
 
+/// Why a map that its method reports as converged did not do what the method is for, judged
+/// on the method's own objective (DEQ's energy, which weighs the density against the
+/// distortion): it fell by less than [`MIN_PROGRESS`] of the way to zero from an initial value
+/// above [`ALREADY_EQUAL`]. `None` when the map moved.
+pub fn barely_lowered(before: f64, after: f64) -> Option<String> {
+    if !(before > ALREADY_EQUAL) || before - after >= MIN_PROGRESS * before {
+        return None;
+    }
+    Some(format!(
+        "the map barely moved: its energy (density misfit and distortion) went only from \
+         {before:.4} to {after:.4}"
+    ))
+}
+
 /// Population variance of `x / mean(x)`.
 pub fn normalized_variance(x: &[f64]) -> f64 {
     if x.is_empty() {

@@ -306,16 +306,7 @@ fn face_with_three_ball_cuts() {
 
 /// The L-shaped domain [0,2]² minus [1,2]², with holes cut into it (jagged loops).
 fn l_shape(holes: &[([f64; 3], f64)]) -> TriMesh {
-    let mut grid = square_grid(60, 60, 2.0, 2.0).unwrap();
-    let positions = grid.positions.clone();
-    grid.faces.retain(|f| {
-        let c = f.iter().fold([0.0; 2], |s, &v| {
-            let p = positions[v as usize];
-            [s[0] + p[0] / 3.0, s[1] + p[1] / 3.0]
-        });
-        !(c[0] > 1.0 && c[1] > 1.0)
-    });
-    cut_holes(&grid, holes, true)
+    planar_domain(2.0, 2.0, 30, |c| !(c[0] > 1.0 && c[1] > 1.0), holes)
 }
 
 #[test]
@@ -351,6 +342,87 @@ fn disk_with_six_holes() {
     let mesh = disk_with_holes(&holes, 50).unwrap();
     let pop = population(&mesh, "area*(1+2*(x>0)+y*y)");
     variation("disk with 6 holes", &mesh, &pop, 6);
+}
+
+/// A planar domain: the `width × height` grid of `cells` squares per unit with the faces
+/// whose centroid `keep` rejects removed, then holes cut into it (jagged loops).
+fn planar_domain(
+    width: f64,
+    height: f64,
+    cells: usize,
+    keep: impl Fn([f64; 2]) -> bool,
+    holes: &[([f64; 3], f64)],
+) -> TriMesh {
+    let size = |l: f64| (cells as f64 * l).round() as usize;
+    let mut grid = square_grid(size(width), size(height), width, height).unwrap();
+    let positions = grid.positions.clone();
+    grid.faces.retain(|f| {
+        let c = f.iter().fold([0.0; 2], |s, &v| {
+            let p = positions[v as usize];
+            [s[0] + p[0] / 3.0, s[1] + p[1] / 3.0]
+        });
+        keep(c)
+    });
+    cut_holes(&grid, holes, true)
+}
+
+/// A C-shaped domain (the 3 × 2 rectangle with a 2 × 0.8 bite out of its right side) with a
+/// hole in each arm: the initial map presses the arms, and the holes in them, against the
+/// outer circle.
+#[test]
+#[ignore = "part of the DEQ acceptance runs (release build)"]
+fn c_shape_with_a_hole_in_each_arm() {
+    let mesh = planar_domain(
+        3.0,
+        2.0,
+        40,
+        |c| !(c[0] > 1.0 && c[1] > 0.6 && c[1] < 1.4),
+        &[([2.2, 0.3, 0.0], 0.15), ([2.2, 1.7, 0.0], 0.15)],
+    );
+    let pop = population(&mesh, "area*(1+2*exp(-((x-1.5)^2+(y-1)^2)/0.2))");
+    variation("C-shape, 2 holes", &mesh, &pop, 2);
+}
+
+/// A U-shaped domain with a hole in each arm and one in its base.
+#[test]
+#[ignore = "part of the DEQ acceptance runs (release build)"]
+fn u_shape_with_three_holes() {
+    let mesh = planar_domain(
+        3.0,
+        3.0,
+        40,
+        |c| !(c[0] > 0.8 && c[0] < 2.2 && c[1] > 0.8),
+        &[
+            ([0.4, 2.2, 0.0], 0.2),
+            ([2.6, 2.2, 0.0], 0.2),
+            ([1.5, 0.4, 0.0], 0.2),
+        ],
+    );
+    let pop = population(&mesh, "area*(1+x*y)");
+    variation("U-shape, 3 holes", &mesh, &pop, 3);
+}
+
+// Large scans with holes: mapped through a coarse copy of themselves.
+
+/// The hand scan (105 860 faces) with three holes cut.
+#[test]
+#[ignore = "needs real meshes (DEMKIT_DATA)"]
+fn hand_with_three_holes() {
+    let hand = load("open/hand.obj");
+    let mesh = cut_holes(&hand, &random_holes(&hand, 3, 2, 0.03), false);
+    let pop = population(&mesh, "area");
+    variation("hand, 3 holes", &mesh, &pop, 3);
+}
+
+/// The cortical surface (96 811 faces) with four holes cut through its folds, and a
+/// population bump.
+#[test]
+#[ignore = "needs real meshes (DEMKIT_DATA)"]
+fn human_brain_with_four_holes() {
+    let brain = load("open/human_brain.obj");
+    let mesh = cut_holes(&brain, &random_holes(&brain, 4, 9, 0.03), false);
+    let pop = population(&mesh, "area*(1+exp(-(x^2+y^2)/2000))");
+    variation("human brain, 4 holes", &mesh, &pop, 4);
 }
 
 // LDEQ.

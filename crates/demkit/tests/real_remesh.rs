@@ -43,7 +43,14 @@ fn remeshed(rel: &str, map: Map, population: &str, n: usize) -> (TriMesh, TriMes
     };
     let r = match map {
         Map::Dem => dem::run(&mesh, &pop, &dem::Config::default(), quiet),
-        Map::Deq => deq::run(&mesh, &pop, &deq::Config::default(), quiet),
+        // Remeshing maps with DEQ's density-first α, as `demkit remesh` does.
+        Map::Deq => {
+            let c = deq::Config {
+                alpha: demkit::apps::remesh::DEQ_ALPHA,
+                ..Default::default()
+            };
+            deq::run(&mesh, &pop, &c, quiet)
+        }
         Map::Sdem => sdem::run(&mesh, &pop, &sdem::Config::default(), quiet),
         Map::Tdem(..) => {
             let t = torus.as_ref().unwrap();

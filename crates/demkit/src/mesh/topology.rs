@@ -120,6 +120,54 @@ pub fn vertex_faces(n_vertices: usize, faces: &[[u32; 3]]) -> (Vec<usize>, Vec<u
     (offsets, ids)
 }
 
+/// The vertices joined to each vertex by an edge of `faces` (each once).
+///
+/// # Panics
+/// If a face uses a vertex index `>= n_vertices` (validated meshes never do).
+pub fn vertex_neighbours(n_vertices: usize, faces: &[[u32; 3]]) -> Vec<Vec<u32>> {
+    let mut out = vec![Vec::new(); n_vertices];
+    for f in faces {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            if a != b && !out[a as usize].contains(&b) {
+                out[a as usize].push(b);
+                out[b as usize].push(a);
+            }
+        }
+    }
+    out
+}
+
+/// Every vertex's number of edges from the nearest of `seeds`, counted up to `rings`
+/// (`usize::MAX` beyond, and for vertices not reached), over the adjacency `neighbours`
+/// ([`vertex_neighbours`]).
+pub fn ring_distances(
+    neighbours: &[Vec<u32>],
+    seeds: impl IntoIterator<Item = u32>,
+    rings: usize,
+) -> Vec<usize> {
+    let mut distance = vec![usize::MAX; neighbours.len()];
+    let mut queue = std::collections::VecDeque::new();
+    for s in seeds {
+        if distance[s as usize] != 0 {
+            distance[s as usize] = 0;
+            queue.push_back(s as usize);
+        }
+    }
+    while let Some(u) = queue.pop_front() {
+        if distance[u] >= rings {
+            continue;
+        }
+        for &w in &neighbours[u] {
+            if distance[w as usize] == usize::MAX {
+                distance[w as usize] = distance[u] + 1;
+                queue.push_back(w as usize);
+            }
+        }
+    }
+    distance
+}
+
 /// Connected components of the vertices joined by `faces`: returns the number of components and
 /// a label per vertex (`0..count`, numbered in order of each component's smallest vertex;
 /// `u32::MAX` for vertices no face uses).
@@ -321,6 +369,23 @@ mod tests {
             vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]],
             vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]],
         )
+    }
+
+    #[test]
+    fn neighbours_and_ring_distances_of_a_strip() {
+        // A strip of four triangles: 0-1-2-3 along the bottom, 4-5-6 along the top.
+        let faces = vec![[0, 1, 4], [1, 5, 4], [1, 2, 5], [2, 6, 5], [2, 3, 6]];
+        let nb = vertex_neighbours(7, &faces);
+        let mut n1 = nb[1].clone();
+        n1.sort();
+        assert_eq!(n1, vec![0, 2, 4, 5]);
+        assert_eq!(nb[3].len(), 2);
+        let d = ring_distances(&nb, [0], 2);
+        assert_eq!(d[0], 0);
+        assert_eq!((d[1], d[4]), (1, 1));
+        assert_eq!((d[2], d[5]), (2, 2));
+        // Beyond two rings: not reached.
+        assert_eq!((d[3], d[6]), (usize::MAX, usize::MAX));
     }
 
     /// Square annulus: outer square 0..4 (counter-clockwise), inner square 4..8.

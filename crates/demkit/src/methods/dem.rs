@@ -142,6 +142,7 @@ pub fn run(
     Ok(MapResult {
         flat_torus: None,
         refined: None,
+        objective: None,
         method: "dem",
         positions,
         initial,

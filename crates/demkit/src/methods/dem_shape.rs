@@ -98,6 +98,7 @@ pub fn run(
     Ok(MapResult {
         flat_torus: None,
         refined: None,
+        objective: None,
         method: "dem-shape",
         positions: out.positions,
         initial,

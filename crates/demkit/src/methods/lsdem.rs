@@ -224,6 +224,7 @@ pub fn run(
     Ok(MapResult {
         flat_torus: None,
         refined: None,
+        objective: None,
         method: "lsdem",
         positions,
         initial,

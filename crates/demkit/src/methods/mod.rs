@@ -123,6 +123,10 @@ pub struct MapResult {
     /// holes split, [`deq`]); `positions` and `initial` then follow its vertices, the input's
     /// first in their order.
     pub refined: Option<RefinedSurface>,
+    /// `[initial, final]` values of the method's own objective, when it minimises one that
+    /// weighs the density against something else (DEQ: density misfit and distortion, (4.2));
+    /// [`judge`](Self::judge) measures the run's progress on it instead of on the density.
+    pub objective: Option<[f64; 2]>,
 }
 
 /// A refinement of the input a method mapped instead of the input itself.
@@ -139,7 +143,9 @@ pub struct RefinedSurface {
 impl MapResult {
     /// Makes `converged` honest: a run its method calls converged is not (stop reason
     /// `max_iter`, the reason in the notes) when it left the density as it was
-    /// ([`crate::metrics::barely_moved`] of its `metrics`), or when it stopped improving under
+    /// ([`crate::metrics::barely_moved`] of its `metrics`; for a method with its own
+    /// [`objective`](Self::objective), [`crate::metrics::barely_lowered`] of that), or when it
+    /// stopped improving under
     /// a fixed time step `fixed_dt` short of its tolerance. The conformal maps do not equalize
     /// the density and are left as they are.
     pub fn judge(&mut self, metrics: &crate::metrics::Metrics, fixed_dt: Option<f64>) {
@@ -147,7 +153,11 @@ impl MapResult {
             return;
         }
         let stationary = self.stop_reason == StopReason::Stationary;
-        let why = match (crate::metrics::barely_moved(metrics), fixed_dt) {
+        let barely = match self.objective {
+            Some([before, after]) => crate::metrics::barely_lowered(before, after),
+            None => crate::metrics::barely_moved(metrics),
+        };
+        let why = match (barely, fixed_dt) {
             (Some(why), Some(dt)) => {
                 format!("{why}; the fixed time step {dt:e} is too small to move the map")
             }

@@ -171,6 +171,7 @@ pub fn run_from(
     Ok(MapResult {
         flat_torus: None,
         refined: None,
+        objective: None,
         method: "sdem",
         positions,
         initial,

@@ -17,6 +17,7 @@ pub fn run(mesh: &TriMesh, population: &[f64]) -> Result<MapResult> {
     Ok(MapResult {
         flat_torus: None,
         refined: None,
+        objective: None,
         method: "spherical-conformal",
         positions: map.clone(),
         initial: map,

@@ -257,6 +257,7 @@ pub fn run_from(
         notes,
         flat_torus: Some(map),
         refined: None,
+        objective: None,
     })
 }
 

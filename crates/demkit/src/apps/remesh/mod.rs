@@ -15,6 +15,12 @@
 
 mod adaptive;
 mod chart;
+/// The weight α of the distortion in the DEQ energy with which a surface with holes is mapped
+/// for remeshing when none is asked for: the density first (DEQ's own default, 2, weighs
+/// conformality more), since the new mesh's vertex spacing follows the map's density
+/// (lion_5 with 5000 vertices: area CV 0.27 at α = 0.3, 0.87 at α = 2).
+pub const DEQ_ALPHA: f64 = 0.3;
+
 pub mod planar;
 pub mod quality;
 mod region;

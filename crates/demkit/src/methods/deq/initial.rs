@@ -9,7 +9,8 @@
 //! ([`super::rounding`]).
 
 use super::layout::Layout;
-use crate::geometry::{face_areas, norm, sub};
+use super::rounding;
+use crate::geometry::{count_nonpositive, face_areas, norm, sub};
 use crate::init::tutte::{InteriorWeights, fixed_boundary_map};
 use crate::{Error, Result, TriMesh};
 use std::collections::HashMap;
@@ -132,4 +133,57 @@ pub(crate) fn filled_disk_embedding(
         positions: map,
         centres,
     })
+}
+
+/// DEQ's initial map: the fan-filled disk's embedding ([`filled_disk_embedding`]), its holes
+/// made round ([`round_holes`]). The surface's vertices only.
+pub(crate) fn initial_map(
+    mesh: &TriMesh,
+    population: &[f64],
+    layout: &Layout,
+) -> Result<Vec<[f64; 3]>> {
+    let embedding = filled_disk_embedding(mesh, population, layout)?;
+    let mut x = embedding.positions;
+    if !round_holes(mesh, layout, &mut x, &embedding.centres)? {
+        return Err(Error::Numerical(
+            "a hole of the initial map could not be made round without folding the map".into(),
+        ));
+    }
+    Ok(x)
+}
+
+/// Makes every hole of the bijective planar map `x` round without folding it
+/// ([`rounding::move_vertices`]): each the circle of its area or, where one would reach
+/// another hole or the outer loop, every hole a circle inside its polygon (`centres`: a point
+/// each hole's polygon is star-shaped around). Returns false, with `x` unchanged, when
+/// neither works.
+pub(crate) fn round_holes(
+    mesh: &TriMesh,
+    layout: &Layout,
+    x: &mut [[f64; 3]],
+    centres: &[[f64; 2]],
+) -> Result<bool> {
+    let mut held = vec![false; x.len()];
+    for &v in layout
+        .outer
+        .iter()
+        .chain(layout.holes.iter().flat_map(|h| h.boundary.iter()))
+    {
+        held[v as usize] = true;
+    }
+    let before = x.to_vec();
+    for size in [rounding::Size::Area, rounding::Size::Inside] {
+        let mut movers = Vec::new();
+        for (hole, &centre) in layout.holes.iter().zip(centres) {
+            let (_, targets) = rounding::round_targets(x, &hole.boundary, centre, size);
+            movers.extend(targets);
+        }
+        if rounding::move_vertices(&mesh.faces, x, &held, &movers)?
+            && count_nonpositive(x, &mesh.faces) == 0
+        {
+            return Ok(true);
+        }
+        x.copy_from_slice(&before);
+    }
+    Ok(false)
 }

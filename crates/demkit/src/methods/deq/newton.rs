@@ -71,6 +71,49 @@ pub(crate) struct Outcome {
     pub converged: bool,
 }
 
+/// Every face's relative area target `Â/A_src` in the map `x`: its share of the population, of
+/// the faces' total area in `x`, over its area on the surface.
+fn face_targets(p: &Problem, faces: &[Face], total_population: f64, x: &[[f64; 3]]) -> Vec<f64> {
+    let total: f64 = p
+        .faces
+        .iter()
+        .map(|f| {
+            let [a, b, c] = f.map(|v| x[v as usize]);
+            crate::geometry::signed_area_2d(a, b, c)
+        })
+        .sum();
+    faces
+        .iter()
+        .zip(p.population)
+        .map(|(face, pop)| pop / total_population * total / face.source_area)
+        .collect()
+}
+
+/// The mean energy of the faces with relative area targets `target` in the map `x`; `None`
+/// when `x` folds one of them.
+fn mean_energy(p: &Problem, faces: &[Face], target: &[f64], x: &[[f64; 3]]) -> Option<f64> {
+    p.faces
+        .par_iter()
+        .zip(faces.par_iter().zip(target.par_iter()))
+        .map(|(f, (face, &k))| {
+            let w = f.map(|v| [x[v as usize][0], x[v as usize][1]]);
+            energy::value(face, w, k, p.alpha, p.misfit)
+        })
+        .sum::<Option<f64>>()
+        .map(|e| e / p.faces.len().max(1) as f64)
+}
+
+/// The problem's energy at the map `x`; `None` when `x` folds a face.
+pub(crate) fn energy_at(p: &Problem, x: &[[f64; 3]]) -> Option<f64> {
+    let faces: Vec<Face> = p
+        .faces
+        .iter()
+        .map(|f| Face::new(f.map(|v| p.surface[v as usize])))
+        .collect();
+    let total_population: f64 = p.population.iter().sum();
+    mean_energy(p, &faces, &face_targets(p, &faces, total_population, x), x)
+}
+
 /// Minimises the energy over the circle domain maps starting from the bijective map `x`
 /// (vertices outside the problem's faces are left alone).
 // The corners' unknowns index several parallel arrays at once.
@@ -109,34 +152,10 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
     }
     let pattern = ElementPattern::new(params.n, elements.iter().map(|e| e.as_slice()))?;
     let mut solver = SpdSolver::for_pattern(&pattern)?;
+    let targets = |x: &[[f64; 3]]| face_targets(p, &faces, total_population, x);
+    let energy = |x: &[[f64; 3]], target: &[f64]| mean_energy(p, &faces, target, x);
     let m = p.faces.len() as f64;
-    let (alpha, misfit) = (p.alpha, p.misfit);
     let image = |x: &[[f64; 3]], f: &[u32; 3]| f.map(|v| [x[v as usize][0], x[v as usize][1]]);
-    // Every face's relative area target Â/A_src.
-    let targets = |x: &[[f64; 3]]| -> Vec<f64> {
-        // The faces' own total area, measured again after every step.
-        let total: f64 = p
-            .faces
-            .iter()
-            .map(|f| {
-                let [a, b, c] = f.map(|v| x[v as usize]);
-                crate::geometry::signed_area_2d(a, b, c)
-            })
-            .sum();
-        faces
-            .iter()
-            .zip(p.population)
-            .map(|(face, pop)| pop / total_population * total / face.source_area)
-            .collect()
-    };
-    let energy = |x: &[[f64; 3]], target: &[f64]| -> Option<f64> {
-        p.faces
-            .par_iter()
-            .zip(faces.par_iter().zip(target.par_iter()))
-            .map(|(f, (face, &k))| energy::value(face, image(x, f), k, alpha, misfit))
-            .sum::<Option<f64>>()
-            .map(|e| e / m)
-    };
 
     let mut target = targets(x);
     let Some(mut current) = energy(x, &target) else {
@@ -168,7 +187,7 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
             .par_iter()
             .zip(faces.par_iter().zip(target.par_iter()))
             .map(|(f, (face, &k))| {
-                energy::derivatives(face, image(x, f), k, alpha, misfit).map(|(_, g, h)| (g, h))
+                energy::derivatives(face, image(x, f), k, p.alpha, p.misfit).map(|(_, g, h)| (g, h))
             })
             .collect();
         // The chain rule to the unknowns: element matrices in parallel, the gradient after.

@@ -39,7 +39,7 @@ pub(crate) struct VertexJacobian {
 impl Parameters {
     /// The parameterization of the maps of `n_vertices` vertices in which the vertices of
     /// `faces` move, those of `outer` on the unit circle and those of each loop of `holes` on
-    /// its circle, and `pinned` vertices stay.
+    /// its circle, and `pinned` vertices and the vertices of no face stay.
     pub fn new(
         n_vertices: usize,
         faces: &[[u32; 3]],
@@ -52,12 +52,17 @@ impl Parameters {
         for &v in faces.iter().flatten() {
             role[v as usize] = Role::Free(0);
         }
+        // Loop vertices slide on their circles (those of the faces only: the rest stay).
         for &v in outer {
-            role[v as usize] = Role::Outer(0);
+            if let Role::Free(_) = role[v as usize] {
+                role[v as usize] = Role::Outer(0);
+            }
         }
         for (h, lp) in holes.iter().enumerate() {
             for &v in lp {
-                role[v as usize] = Role::Hole(h, 0);
+                if let Role::Free(_) = role[v as usize] {
+                    role[v as usize] = Role::Hole(h, 0);
+                }
             }
         }
         for &v in pinned {
