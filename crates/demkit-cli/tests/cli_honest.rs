@@ -114,3 +114,64 @@ fn a_landmark_in_a_hole_that_stays_is_exit_3_and_named() {
     assert!(notes(&r).contains("1 (vertex 100)"), "{}", notes(&r));
     assert_eq!(r["metrics"]["flipped_triangles"], 0);
 }
+
+/// A serpentine corridor: `n` × `n` unit cells with a wall every fourth row, open at
+/// alternate ends (a corridor 3 cells wide and about n²/4 long), and one cell removed as a
+/// hole in its first run.
+fn serpentine(n: usize) -> String {
+    let mut cell = vec![vec![true; n]; n];
+    let (mut row, mut turn) = (3, 0);
+    while row < n - 1 {
+        let gap = if turn % 2 == 0 { n - 1 } else { 0 };
+        for (i, c) in cell[row].iter_mut().enumerate() {
+            *c = i == gap;
+        }
+        row += 4;
+        turn += 1;
+    }
+    cell[1][n / 2] = false;
+    let index = |i: usize, j: usize| j * (n + 1) + i + 1;
+    let mut obj = String::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            obj.push_str(&format!("v {i} {j} 0\n"));
+        }
+    }
+    for (j, cells) in cell.iter().enumerate() {
+        for (i, _) in cells.iter().enumerate().filter(|(_, c)| **c) {
+            let (a, b, c, d) = (
+                index(i, j),
+                index(i + 1, j),
+                index(i + 1, j + 1),
+                index(i, j + 1),
+            );
+            obj.push_str(&format!("f {a} {b} {c}\nf {a} {c} {d}\n"));
+        }
+    }
+    obj
+}
+
+/// A corridor about 300 times as long as it is wide cannot take its share of the disk without
+/// its triangles degenerating: DEQ's energy converges with the density far from equal
+/// (Var(ρ̃) about 0.33), which is exit 3 with the reason, not a success.
+#[test]
+fn a_density_deq_could_not_equalize_is_exit_3() {
+    let s = Scratch::new("serpentine");
+    s.write("corridor.obj", serpentine(64));
+    let out = s.run(&[
+        "map",
+        "corridor.obj",
+        "--method",
+        "deq",
+        "--out",
+        "o.obj",
+        "--report",
+        "r.json",
+        "--quiet",
+    ]);
+    out.assert_code(3);
+    let r = report(&s);
+    assert_eq!(r["converged"], Value::Bool(false));
+    assert!(r["metrics"]["face_density_var_final"].as_f64().unwrap() > 0.25);
+    assert!(notes(&r).contains("not equalized"), "{}", notes(&r));
+}

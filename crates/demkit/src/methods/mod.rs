@@ -144,9 +144,9 @@ impl MapResult {
     /// Makes `converged` honest: a run its method calls converged is not (stop reason
     /// `max_iter`, the reason in the notes) when it left the density as it was
     /// ([`crate::metrics::barely_moved`] of its `metrics`; for a method with its own
-    /// [`objective`](Self::objective), [`crate::metrics::barely_lowered`] of that), or when it
-    /// stopped improving under
-    /// a fixed time step `fixed_dt` short of its tolerance. The conformal maps do not equalize
+    /// [`objective`](Self::objective), [`crate::metrics::barely_lowered`] of that, or a density
+    /// left far from equal, [`crate::metrics::not_equalized`]), or when it stopped improving
+    /// under a fixed time step `fixed_dt` short of its tolerance. The conformal maps do not equalize
     /// the density and are left as they are.
     pub fn judge(&mut self, metrics: &crate::metrics::Metrics, fixed_dt: Option<f64>) {
         if !self.converged || matches!(self.method, "spherical-conformal" | "circle-conformal") {
@@ -154,7 +154,8 @@ impl MapResult {
         }
         let stationary = self.stop_reason == StopReason::Stationary;
         let barely = match self.objective {
-            Some([before, after]) => crate::metrics::barely_lowered(before, after),
+            Some([before, after]) => crate::metrics::barely_lowered(before, after)
+                .or_else(|| crate::metrics::not_equalized(metrics)),
             None => crate::metrics::barely_moved(metrics),
         };
         let why = match (barely, fixed_dt) {
