@@ -526,3 +526,54 @@ fn ldeq_target_in_a_hole_is_reported_missed() {
     let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Plane, None);
     assert_eq!(m.flipped_triangles, 0);
 }
+
+/// A square spiral corridor 5 cells wide (its wall a polyline of seven turns through the cell
+/// centres of a 96 × 96 grid) with small holes in its inner turns: the initial embedding
+/// presses those holes too flat for harmonic moves to make them round, so their loops are put
+/// on circles at once and the folds that makes are untangled.
+#[test]
+#[ignore = "part of the DEQ acceptance runs (release build)"]
+fn square_spiral_with_flat_holes() {
+    let (n, step) = (96.0, 6.0);
+    // Turn lengths a, then a − step twice, a − 2 step twice, … while above one step.
+    let mut lengths = vec![n - step];
+    let mut a = n - 2.0 * step;
+    while a > step {
+        lengths.extend([a, a]);
+        a -= step;
+    }
+    let mut wall = vec![[step - 0.5, 0.5]];
+    for (turn, length) in lengths.iter().enumerate() {
+        let [x, y] = wall[wall.len() - 1];
+        let (dx, dy) = [(0.0, 1.0), (1.0, 0.0), (0.0, -1.0), (-1.0, 0.0)][turn % 4];
+        wall.push([x + dx * length, y + dy * length]);
+    }
+    let to_wall = |p: [f64; 2]| {
+        wall.windows(2)
+            .map(|s| demkit::geometry::segment::segment_distance(p, s[0], s[1]).0)
+            .fold(f64::INFINITY, f64::min)
+    };
+    // Hole centres along the middle row, one per corridor, well inside it.
+    let mut centres: Vec<f64> = Vec::new();
+    for i in 0..(n as usize) {
+        let x = n / 2.0 + i as f64 * 0.25;
+        if to_wall([x, n / 2.0]) >= 2.4 && centres.last().is_none_or(|&c| x - c >= step) {
+            centres.push(x);
+        }
+    }
+    let holes: Vec<([f64; 3], f64)> = centres
+        .iter()
+        .take(4)
+        .map(|&x| ([x / n, 0.5, 0.0], 1.0 / n))
+        .collect();
+    let mesh = planar_domain(
+        1.0,
+        1.0,
+        n as usize,
+        |c| to_wall([c[0] * n, c[1] * n]) > 0.5,
+        &holes,
+    );
+    let pop = population(&mesh, "area");
+    let (_, m) = run_deq("square spiral, flat holes", &mesh, &pop);
+    assert!(m.face_density_var_final <= 0.25);
+}

@@ -9,12 +9,18 @@
 //! ([`super::rounding`]).
 
 use super::layout::Layout;
+use super::multilevel::area_ratios;
 use super::rounding;
+use super::untangle::untangle;
 use crate::geometry::{count_nonpositive, face_areas, norm, sub};
 use crate::init::tutte::{InteriorWeights, fixed_boundary_map};
 use crate::{Error, Result, TriMesh};
 use std::collections::HashMap;
 use std::f64::consts::TAU;
+
+/// [`round_and_untangle`]: the untangled region's radius in edges around the folds, tried in
+/// turn (the last takes in any mesh whole).
+const UNTANGLE_RINGS: [usize; 3] = [4, 16, usize::MAX];
 
 /// Face densities on the surface, for spacing loops by weighted length.
 struct Density {
@@ -118,7 +124,8 @@ pub(crate) fn filled_disk_embedding(
         &circle,
         InteriorWeights::MeanValue,
     )?;
-    let flipped = crate::geometry::count_nonpositive(&map, &faces);
+    let mut map = map;
+    let flipped = count_nonpositive(&map, &faces);
     if flipped > 0 {
         return Err(Error::Numerical(format!(
             "the initial embedding of the filled disk folds {flipped} triangles"
@@ -127,7 +134,6 @@ pub(crate) fn filled_disk_embedding(
     let centres = (0..layout.holes.len())
         .map(|h| [map[n + h][0], map[n + h][1]])
         .collect();
-    let mut map = map;
     map.truncate(n);
     Ok(FilledEmbedding {
         positions: map,
@@ -144,12 +150,53 @@ pub(crate) fn initial_map(
 ) -> Result<Vec<[f64; 3]>> {
     let embedding = filled_disk_embedding(mesh, population, layout)?;
     let mut x = embedding.positions;
-    if !round_holes(mesh, layout, &mut x, &embedding.centres)? {
+    if !round_holes(mesh, layout, &mut x, &embedding.centres)?
+        && !round_and_untangle(mesh, population, layout, &mut x, &embedding.centres)?
+    {
         return Err(Error::Numerical(
             "a hole of the initial map could not be made round without folding the map".into(),
         ));
     }
     Ok(x)
+}
+
+/// The fallback of [`round_holes`] for holes the embedding pressed too flat for harmonic moves
+/// to open: every hole's loop put on its circle at once (inside its polygon, else of its
+/// area), and the triangles this folds untangled ([`untangle`]) with every loop held, towards
+/// areas in proportion to the population. Returns false, with `x` unchanged, when neither
+/// untangles.
+fn round_and_untangle(
+    mesh: &TriMesh,
+    population: &[f64],
+    layout: &Layout,
+    x: &mut [[f64; 3]],
+    centres: &[[f64; 2]],
+) -> Result<bool> {
+    let mut movable = vec![true; x.len()];
+    for &v in layout
+        .outer
+        .iter()
+        .chain(layout.holes.iter().flat_map(|h| h.boundary.iter()))
+    {
+        movable[v as usize] = false;
+    }
+    let before = x.to_vec();
+    for size in [rounding::Size::Inside, rounding::Size::Area] {
+        for (hole, &centre) in layout.holes.iter().zip(centres) {
+            let (_, targets) = rounding::round_targets(&before, &hole.boundary, centre, size);
+            for (v, [a, b]) in targets {
+                x[v as usize] = [a, b, 0.0];
+            }
+        }
+        let ratio = area_ratios(mesh, population, x);
+        for rings in UNTANGLE_RINGS {
+            if untangle(&mesh.positions, &mesh.faces, &ratio, &movable, rings, x)? {
+                return Ok(true);
+            }
+        }
+        x.copy_from_slice(&before);
+    }
+    Ok(false)
 }
 
 /// Makes every hole of the bijective planar map `x` round without folding it

@@ -205,7 +205,7 @@ const UNTANGLE_RINGS: [usize; 3] = [2, 4, 8];
 
 /// For every face, the area it should have in the planar map `x` (its share of the
 /// population, of the map's total area) over its area on the surface.
-fn area_ratios(mesh: &TriMesh, population: &[f64], x: &[[f64; 3]]) -> Vec<f64> {
+pub(super) fn area_ratios(mesh: &TriMesh, population: &[f64], x: &[[f64; 3]]) -> Vec<f64> {
     let total_area: f64 = mesh
         .faces
         .iter()
