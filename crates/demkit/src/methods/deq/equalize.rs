@@ -192,10 +192,7 @@ pub(super) fn direct(
 ) -> Result<Equalized> {
     let holes: Vec<Vec<u32>> = layout.holes.iter().map(|h| h.boundary.clone()).collect();
     let n_surface = mesh.n_vertices();
-    let mut held = vec![false; x.len()];
-    for &v in layout.outer.iter().chain(holes.iter().flatten()) {
-        held[v as usize] = true;
-    }
+    let mut held = layout.on_loops(x.len());
     // The hole fillings and the populations of the filled disk.
     let mut patches = Vec::with_capacity(layout.holes.len());
     for hole in &layout.holes {

@@ -9,9 +9,8 @@
 //! ([`super::rounding`]).
 
 use super::layout::Layout;
-use super::multilevel::area_ratios;
 use super::rounding;
-use super::untangle::untangle;
+use super::untangle::untangle_within_loops;
 use crate::geometry::{count_nonpositive, face_areas, norm, sub};
 use crate::init::tutte::{InteriorWeights, fixed_boundary_map};
 use crate::{Error, Result, TriMesh};
@@ -172,14 +171,6 @@ fn round_and_untangle(
     x: &mut [[f64; 3]],
     centres: &[[f64; 2]],
 ) -> Result<bool> {
-    let mut movable = vec![true; x.len()];
-    for &v in layout
-        .outer
-        .iter()
-        .chain(layout.holes.iter().flat_map(|h| h.boundary.iter()))
-    {
-        movable[v as usize] = false;
-    }
     let before = x.to_vec();
     for size in [rounding::Size::Inside, rounding::Size::Area] {
         for (hole, &centre) in layout.holes.iter().zip(centres) {
@@ -188,11 +179,8 @@ fn round_and_untangle(
                 x[v as usize] = [a, b, 0.0];
             }
         }
-        let ratio = area_ratios(mesh, population, x);
-        for rings in UNTANGLE_RINGS {
-            if untangle(&mesh.positions, &mesh.faces, &ratio, &movable, rings, x)? {
-                return Ok(true);
-            }
+        if untangle_within_loops(mesh, population, layout, x, &UNTANGLE_RINGS)? {
+            return Ok(true);
         }
         x.copy_from_slice(&before);
     }
@@ -210,14 +198,7 @@ pub(crate) fn round_holes(
     x: &mut [[f64; 3]],
     centres: &[[f64; 2]],
 ) -> Result<bool> {
-    let mut held = vec![false; x.len()];
-    for &v in layout
-        .outer
-        .iter()
-        .chain(layout.holes.iter().flat_map(|h| h.boundary.iter()))
-    {
-        held[v as usize] = true;
-    }
+    let held = layout.on_loops(x.len());
     let before = x.to_vec();
     for size in [rounding::Size::Area, rounding::Size::Inside] {
         let mut movers = Vec::new();

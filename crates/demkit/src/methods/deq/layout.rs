@@ -49,6 +49,20 @@ impl Layout {
             holes,
         }
     }
+
+    /// For each of the `n` vertices, whether it lies on a loop (the outer one or a hole's):
+    /// the vertices a circle domain map holds on its circles.
+    pub fn on_loops(&self, n: usize) -> Vec<bool> {
+        let mut on = vec![false; n];
+        for &v in self
+            .outer
+            .iter()
+            .chain(self.holes.iter().flat_map(|h| h.boundary.iter()))
+        {
+            on[v as usize] = true;
+        }
+        on
+    }
 }
 
 /// `|½ Σ_k (p_k − p_0) × (p_{k+1} − p_0)|`: the area a closed polygon in R³ spans.

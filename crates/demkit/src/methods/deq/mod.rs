@@ -263,10 +263,7 @@ fn chordless_map(
             );
             newton::minimize(&problem, x)
         };
-        let mut held = vec![false; mesh.n_vertices()];
-        for &v in layout.outer.iter().chain(holes.iter().flatten()) {
-            held[v as usize] = true;
-        }
+        let held = layout.on_loops(mesh.n_vertices());
         let targets: Vec<[f64; 2]> = landmarks.iter().map(|l| l.1).collect();
         let leg = Stage {
             max_iterations: LEG_ITERATIONS,

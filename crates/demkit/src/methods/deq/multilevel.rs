@@ -18,9 +18,9 @@
 //! (the `local_repair` of the method's driver), then a few iterations on the whole surface.
 
 use super::layout::Layout;
-use super::untangle::untangle;
+use super::untangle::untangle_within_loops;
 use crate::geometry::locate::PlanarLocator;
-use crate::geometry::{count_nonpositive, face_areas, signed_area_2d};
+use crate::geometry::{count_nonpositive, face_areas};
 use crate::mesh::topology::{topology, vertex_neighbours};
 use crate::mesh::triangulate::{constrained_delaunay, faces_inside};
 use crate::{Result, TriMesh};
@@ -175,49 +175,13 @@ impl Coarse {
         if count_nonpositive(&y, &mesh.faces) == 0 {
             return Ok(Some(y));
         }
-        let mut movable = vec![true; mesh.n_vertices()];
-        for &v in layout
-            .outer
-            .iter()
-            .chain(layout.holes.iter().flat_map(|h| h.boundary.iter()))
-        {
-            movable[v as usize] = false;
-        }
-        let ratio = area_ratios(mesh, population, &y);
-        for rings in UNTANGLE_RINGS {
-            if untangle(
-                &mesh.positions,
-                &mesh.faces,
-                &ratio,
-                &movable,
-                rings,
-                &mut y,
-            )? {
-                return Ok(Some(y));
-            }
-        }
-        Ok(None)
+        let untangled = untangle_within_loops(mesh, population, layout, &mut y, &UNTANGLE_RINGS)?;
+        Ok(untangled.then_some(y))
     }
 }
 
 /// How far around folded triangles the untangling moves vertices, in rings, tried in turn.
 const UNTANGLE_RINGS: [usize; 3] = [2, 4, 8];
-
-/// For every face, the area it should have in the planar map `x` (its share of the
-/// population, of the map's total area) over its area on the surface.
-pub(super) fn area_ratios(mesh: &TriMesh, population: &[f64], x: &[[f64; 3]]) -> Vec<f64> {
-    let total_area: f64 = mesh
-        .faces
-        .iter()
-        .map(|f| signed_area_2d(x[f[0] as usize], x[f[1] as usize], x[f[2] as usize]))
-        .sum();
-    let total_population: f64 = population.iter().sum();
-    population
-        .iter()
-        .zip(face_areas(&mesh.positions, &mesh.faces))
-        .map(|(p, a)| p / total_population * total_area / a)
-        .collect()
-}
 
 /// An evenly spread subset of the vertices: the `must` ones, then greedily every vertex more
 /// than `r` edges from all chosen ones, with the smallest `r` that leaves at most `target`

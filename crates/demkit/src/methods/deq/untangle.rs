@@ -13,10 +13,11 @@
 //! is untangled once every determinant is positive.
 
 use super::energy::{self, Face};
-use crate::Result;
-use crate::geometry::signed_area_2d;
+use super::layout::Layout;
+use crate::geometry::{face_areas, signed_area_2d};
 use crate::linalg::{ElementPattern, SpdSolver, packed_index};
 use crate::mesh::topology::{ring_distances, vertex_neighbours};
+use crate::{Result, TriMesh};
 use rayon::prelude::*;
 
 /// The weight λ of the area term (the paper's 2D choice).
@@ -122,6 +123,42 @@ pub(crate) fn untangle(
         };
     }
     x.copy_from_slice(&start);
+    Ok(false)
+}
+
+/// For every face, the area it should have in the planar map `x` (its share of the
+/// population, of the map's total area) over its area on the surface.
+pub(crate) fn area_ratios(mesh: &TriMesh, population: &[f64], x: &[[f64; 3]]) -> Vec<f64> {
+    let total_area: f64 = mesh
+        .faces
+        .iter()
+        .map(|f| signed_area_2d(x[f[0] as usize], x[f[1] as usize], x[f[2] as usize]))
+        .sum();
+    let total_population: f64 = population.iter().sum();
+    population
+        .iter()
+        .zip(face_areas(&mesh.positions, &mesh.faces))
+        .map(|(p, a)| p / total_population * total_area / a)
+        .collect()
+}
+
+/// Untangles the circle domain map `x` of `mesh` ([`untangle`]) with every loop of `layout`
+/// held, towards faces whose areas follow the population ([`area_ratios`]), trying each
+/// region radius of `rings` in turn. Returns false, with `x` unchanged, when none untangles.
+pub(crate) fn untangle_within_loops(
+    mesh: &TriMesh,
+    population: &[f64],
+    layout: &Layout,
+    x: &mut [[f64; 3]],
+    rings: &[usize],
+) -> Result<bool> {
+    let movable: Vec<bool> = layout.on_loops(x.len()).iter().map(|&l| !l).collect();
+    let ratio = area_ratios(mesh, population, x);
+    for &r in rings {
+        if untangle(&mesh.positions, &mesh.faces, &ratio, &movable, r, x)? {
+            return Ok(true);
+        }
+    }
     Ok(false)
 }
 
