@@ -3,12 +3,15 @@
 //! (positive semi-definite, so the step descends), the circle parameterization to first order
 //! and Levenberg–Marquardt damping, by one sparse Cholesky factorization of a pattern analysed
 //! once. The step is shortened while it would fold a triangle or fail to lower the energy
-//! (the density misfit is a barrier against collapse), so every map met is bijective.
+//! (the density misfit is a barrier against collapse), so every map met is bijective; when a
+//! few faces about to collapse cut it short, the step with the vertices around them held is
+//! tried too, so that they do not hold back the whole map.
 
 use super::energy::{self, Face, Misfit};
 use super::parameters::Parameters;
 use crate::Result;
 use crate::linalg::{ElementPattern, SpdSolver, packed_index};
+use crate::mesh::topology::ring_distances;
 use crate::methods::planar_diffusion::collapse_time;
 use rayon::prelude::*;
 
@@ -114,6 +117,79 @@ pub(crate) fn energy_at(p: &Problem, x: &[[f64; 3]]) -> Option<f64> {
     mean_energy(p, &faces, &face_targets(p, &faces, total_population, x), x)
 }
 
+/// Rings of vertices held around the faces that block a full step, for the partial step.
+const HELD_RINGS: usize = 2;
+
+/// The motion of face `f`'s corners in the image when the unknowns `u` move by `step`.
+fn image_motion(params: &Parameters, u: &[f64], f: &[u32; 3], step: &[f64]) -> [[f64; 2]; 3] {
+    f.map(|v| {
+        let j = params.jacobian(v as usize, u);
+        (0..j.count).fold([0.0; 2], |acc, s| {
+            let dv = j.derivatives[s];
+            [
+                acc[0] + dv[0] * step[j.unknowns[s]],
+                acc[1] + dv[1] * step[j.unknowns[s]],
+            ]
+        })
+    })
+}
+
+/// Every face's collapse time along `step` from the map `x` (unknowns `u`): the step length
+/// at which it would first have zero area, to first order (infinite if never).
+fn collapse_times(
+    p: &Problem,
+    params: &Parameters,
+    u: &[f64],
+    x: &[[f64; 3]],
+    step: &[f64],
+) -> Vec<f64> {
+    p.faces
+        .par_iter()
+        .map(|f| collapse_time(f.map(|v| x[v as usize]), image_motion(params, u, f, step)))
+        .collect()
+}
+
+/// A step the line search accepted.
+struct Accepted {
+    unknowns: Vec<f64>,
+    energy: f64,
+    /// Its length, as a fraction of the Newton step.
+    length: f64,
+}
+
+/// Backtracking from `min(1, 0.9 t_collapse)` along `step` (slope `slope`) until the energy
+/// (`evaluate`, `None` for a folded map) of the moved unknowns meets Armijo's condition;
+/// `None` when 40 halvings do not.
+fn line_search(
+    params: &Parameters,
+    u: &[f64],
+    step: &[f64],
+    slope: f64,
+    t_collapse: f64,
+    current: f64,
+    evaluate: &mut dyn FnMut(&[f64]) -> Option<f64>,
+) -> Option<Accepted> {
+    let mut t = (0.9 * t_collapse).min(1.0);
+    for _ in 0..40 {
+        let mut un = u.to_vec();
+        for (a, s) in un.iter_mut().zip(step) {
+            *a += t * s;
+        }
+        if params.radii_positive(&un)
+            && let Some(e) = evaluate(&un)
+            && e <= current + 1e-4 * t * slope
+        {
+            return Some(Accepted {
+                unknowns: un,
+                energy: e,
+                length: t,
+            });
+        }
+        t *= 0.5;
+    }
+    None
+}
+
 /// Minimises the energy over the circle domain maps starting from the bijective map `x`
 /// (vertices outside the problem's faces are left alone).
 // The corners' unknowns index several parallel arrays at once.
@@ -157,6 +233,7 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
     let m = p.faces.len() as f64;
     let image = |x: &[[f64; 3]], f: &[u32; 3]| f.map(|v| [x[v as usize][0], x[v as usize][1]]);
 
+    let neighbours = crate::mesh::topology::vertex_neighbours(x.len(), p.faces);
     let mut target = targets(x);
     let Some(mut current) = energy(x, &target) else {
         return Err(crate::Error::Numerical(
@@ -277,46 +354,72 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
             continue;
         }
         // Start the line search short of the first collapse along the step (to first order).
-        let t_collapse = p
-            .faces
-            .par_iter()
-            .map(|f| {
-                let d = f.map(|v| {
-                    let j = params.jacobian(v as usize, &u);
-                    (0..j.count).fold([0.0; 2], |acc, s| {
-                        let dv = j.derivatives[s];
-                        [
-                            acc[0] + dv[0] * step[j.unknowns[s]],
-                            acc[1] + dv[1] * step[j.unknowns[s]],
-                        ]
-                    })
-                });
-                collapse_time(f.map(|v| x[v as usize]), d)
-            })
-            .reduce(|| f64::INFINITY, f64::min);
-        let mut t = (0.9 * t_collapse).min(1.0);
-        let mut accepted = None;
-        for _ in 0..40 {
-            let mut un = u.clone();
-            for (a, s) in un.iter_mut().zip(&step) {
-                *a += t * s;
-            }
-            if params.radii_positive(&un) {
-                params.write(&un, &mut trial);
-                if let Some(e) = energy(&trial, &target)
-                    && e <= current + 1e-4 * t * slope
-                {
-                    accepted = Some((un, e));
-                    break;
+        let collapse = collapse_times(p, &params, &u, x, &step);
+        let t_collapse = collapse.iter().copied().fold(f64::INFINITY, f64::min);
+        let mut evaluate = |un: &[f64]| {
+            params.write(un, &mut trial);
+            energy(&trial, &target)
+        };
+        let mut accepted = line_search(
+            &params,
+            &u,
+            &step,
+            slope,
+            t_collapse,
+            current,
+            &mut evaluate,
+        );
+        // A step cut short by a few faces about to collapse: the step with the vertices
+        // around them held ([`HELD_RINGS`]) goes further everywhere else. It is taken when it
+        // lowers the energy more, and counts as a full step (the quadratic model held where
+        // it was followed). Measured on the hand with three holes: 39 fine iterations → 31.
+        if accepted.as_ref().is_none_or(|a| a.length < 1.0) {
+            let blocking = p
+                .faces
+                .iter()
+                .zip(&collapse)
+                .filter(|(_, t)| **t < 1.0 / 0.9)
+                .flat_map(|(f, _)| *f);
+            let held = ring_distances(&neighbours, blocking, HELD_RINGS);
+            let mut partial = step.clone();
+            for v in (0..held.len()).filter(|&v| held[v] != usize::MAX) {
+                let j = params.jacobian(v, &u);
+                for &k in &j.unknowns[..j.count] {
+                    partial[k] = 0.0;
                 }
             }
-            t *= 0.5;
+            let partial_slope: f64 = partial.iter().zip(&grad).map(|(s, g)| s * g).sum();
+            if partial_slope < 0.0 {
+                let t_partial = collapse_times(p, &params, &u, x, &partial)
+                    .into_iter()
+                    .fold(f64::INFINITY, f64::min);
+                let other = line_search(
+                    &params,
+                    &u,
+                    &partial,
+                    partial_slope,
+                    t_partial,
+                    current,
+                    &mut evaluate,
+                );
+                if let Some(o) = other
+                    && accepted.as_ref().is_none_or(|a| o.energy < a.energy)
+                {
+                    accepted = Some(Accepted { length: 1.0, ..o });
+                }
+            }
         }
-        let Some((un, e)) = accepted else {
+        let Some(Accepted {
+            unknowns: un,
+            energy: e,
+            length: t,
+        }) = accepted
+        else {
             // No step lowers the energy: a minimum (to rounding).
             outcome.converged = true;
             break;
         };
+        params.write(&un, &mut trial);
         // A shortened step means the quadratic model was too optimistic: damp more, and
         // factorize again.
         damping = if t == 1.0 {
