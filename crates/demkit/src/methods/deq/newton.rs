@@ -446,3 +446,65 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
     }
     Ok(outcome)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One triangle with every corner free: the unknowns are its corners' coordinates.
+    fn triangle() -> (Vec<[f64; 3]>, Vec<[u32; 3]>, Parameters) {
+        let x = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let faces = vec![[0, 1, 2]];
+        let params = Parameters::new(3, &faces, &[], &[], &[], false);
+        (x, faces, params)
+    }
+
+    #[test]
+    fn collapse_times_follow_a_corner_through_the_opposite_edge() {
+        let (x, faces, params) = triangle();
+        let u = params.read(&x, &[]);
+        // Corner 2 moves down by 2 per unit step: it reaches the edge (y = 0) at t = 1/2.
+        let mut step = vec![0.0; params.n];
+        let k = params.jacobian(2, &u).unknowns[1];
+        step[k] = -2.0;
+        let p = Problem {
+            surface: &x,
+            faces: &faces,
+            population: &[1.0],
+            outer: &[],
+            holes: &[],
+            pinned: &[],
+            fixed_holes: false,
+            alpha: 0.0,
+            misfit: Misfit::Square,
+            max_iterations: 1,
+            tolerance: 1e-6,
+        };
+        let t = collapse_times(&p, &params, &u, &x, &step);
+        assert!((t[0] - 0.5).abs() < 1e-12, "{t:?}");
+        // Moving away from the edge never collapses it.
+        step[k] = 2.0;
+        assert!(collapse_times(&p, &params, &u, &x, &step)[0].is_infinite());
+    }
+
+    #[test]
+    fn the_line_search_starts_short_of_collapse_and_backtracks_until_armijo_holds() {
+        let (x, _, params) = triangle();
+        let u = params.read(&x, &[]);
+        let step = vec![1.0; params.n];
+        // A quadratic along the step with its minimum at t = 0.3: from t = 0.9 · 0.5 = 0.45
+        // the energy 1 − t(0.6 − t) meets Armijo's condition at once.
+        let at = |un: &[f64]| un[0] - u[0];
+        let mut quadratic = |un: &[f64]| Some(1.0 - at(un) * (0.6 - at(un)));
+        let a = line_search(&params, &u, &step, -0.6, 0.5, 1.0, &mut quadratic).unwrap();
+        assert!((a.length - 0.45).abs() < 1e-12);
+        assert!((a.unknowns[0] - (u[0] + 0.45)).abs() < 1e-12);
+        // A map that folds beyond t = 0.1 (no energy) is backtracked below it.
+        let mut folding = |un: &[f64]| (at(un) <= 0.1).then(|| 1.0 - at(un));
+        let a = line_search(&params, &u, &step, -1.0, f64::INFINITY, 1.0, &mut folding).unwrap();
+        assert_eq!(a.length, 0.0625);
+        // No length lowers the energy: none is accepted.
+        let mut rising = |un: &[f64]| Some(1.0 + at(un));
+        assert!(line_search(&params, &u, &step, -1.0, 1.0, 1.0, &mut rising).is_none());
+    }
+}
