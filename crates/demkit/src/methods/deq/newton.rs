@@ -11,7 +11,7 @@ use super::energy::{self, Face, Misfit};
 use super::parameters::Parameters;
 use crate::Result;
 use crate::linalg::{ElementPattern, SpdSolver, packed_index};
-use crate::mesh::topology::ring_distances;
+use crate::mesh::topology::{ring_distances, vertex_neighbours};
 use crate::methods::planar_diffusion::collapse_time;
 use rayon::prelude::*;
 
@@ -120,6 +120,9 @@ pub(crate) fn energy_at(p: &Problem, x: &[[f64; 3]]) -> Option<f64> {
 /// Rings of vertices held around the faces that block a full step, for the partial step.
 const HELD_RINGS: usize = 2;
 
+/// The line search starts at this fraction of the first collapse time along the step.
+const COLLAPSE_MARGIN: f64 = 0.9;
+
 /// The motion of face `f`'s corners in the image when the unknowns `u` move by `step`.
 fn image_motion(params: &Parameters, u: &[f64], f: &[u32; 3], step: &[f64]) -> [[f64; 2]; 3] {
     f.map(|v| {
@@ -157,7 +160,7 @@ struct Accepted {
     length: f64,
 }
 
-/// Backtracking from `min(1, 0.9 t_collapse)` along `step` (slope `slope`) until the energy
+/// Backtracking from `min(1, COLLAPSE_MARGIN · t_collapse)` along `step` (slope `slope`) until the energy
 /// (`evaluate`, `None` for a folded map) of the moved unknowns meets Armijo's condition;
 /// `None` when 40 halvings do not.
 fn line_search(
@@ -169,11 +172,11 @@ fn line_search(
     current: f64,
     evaluate: &mut dyn FnMut(&[f64]) -> Option<f64>,
 ) -> Option<Accepted> {
-    let mut t = (0.9 * t_collapse).min(1.0);
+    let mut t = (COLLAPSE_MARGIN * t_collapse).min(1.0);
+    let mut un = u.to_vec();
     for _ in 0..40 {
-        let mut un = u.to_vec();
-        for (a, s) in un.iter_mut().zip(step) {
-            *a += t * s;
+        for ((a, &b), s) in un.iter_mut().zip(u).zip(step) {
+            *a = b + t * s;
         }
         if params.radii_positive(&un)
             && let Some(e) = evaluate(&un)
@@ -233,7 +236,8 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
     let m = p.faces.len() as f64;
     let image = |x: &[[f64; 3]], f: &[u32; 3]| f.map(|v| [x[v as usize][0], x[v as usize][1]]);
 
-    let neighbours = crate::mesh::topology::vertex_neighbours(x.len(), p.faces);
+    // Built the first time a step is blocked (many minimisations never need it).
+    let neighbours = std::cell::OnceCell::new();
     let mut target = targets(x);
     let Some(mut current) = energy(x, &target) else {
         return Err(crate::Error::Numerical(
@@ -372,15 +376,16 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
         // A step cut short by a few faces about to collapse: the step with the vertices
         // around them held ([`HELD_RINGS`]) goes further everywhere else. It is taken when it
         // lowers the energy more, and counts as a full step (the quadratic model held where
-        // it was followed). Measured on the hand with three holes: 39 fine iterations → 31.
+        // it was followed).
         if accepted.as_ref().is_none_or(|a| a.length < 1.0) {
             let blocking = p
                 .faces
                 .iter()
                 .zip(&collapse)
-                .filter(|(_, t)| **t < 1.0 / 0.9)
+                .filter(|(_, t)| **t < 1.0 / COLLAPSE_MARGIN)
                 .flat_map(|(f, _)| *f);
-            let held = ring_distances(&neighbours, blocking, HELD_RINGS);
+            let neighbours = neighbours.get_or_init(|| vertex_neighbours(x.len(), p.faces));
+            let held = ring_distances(neighbours, blocking, HELD_RINGS);
             let mut partial = step.clone();
             for v in (0..held.len()).filter(|&v| held[v] != usize::MAX) {
                 let j = params.jacobian(v, &u);
