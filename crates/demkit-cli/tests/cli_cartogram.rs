@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{Scratch, budget};
+use common::{Scratch, check_time};
 use serde_json::{Value, json};
 
 type Ring = Vec<[f64; 2]>;
@@ -615,7 +615,7 @@ fn the_mesh_follows_the_regions_within_the_cap() {
     let (median, worst) = (&report["ratio_error_median"], &report["ratio_error_worst"]);
     assert!(median.as_f64().unwrap() < 0.02, "{median}");
     assert!(worst.as_f64().unwrap() < 0.15, "{worst}");
-    assert!(seconds < budget(20.0), "{seconds} s");
+    check_time("400 squares", seconds, 20.0);
     // The shares: the targets sum to 1, and so do the areas reached.
     let regions = report["regions"].as_array().unwrap();
     let target: f64 = regions
@@ -643,7 +643,7 @@ fn ten_thousand_regions_finish_within_a_minute() {
         report["ratio_error_median"],
         report["ratio_error_worst"]
     );
-    assert!(seconds < budget(60.0), "{seconds} s");
+    check_time("10 000 squares", seconds, 60.0);
     assert!(faces <= 165_000, "{faces}");
     assert_eq!(report["flipped_triangles"], 0);
     assert_eq!(report["regions"].as_array().unwrap().len(), 10_000);

@@ -52,10 +52,7 @@ fn check_common(r: &MapResult, m: &Metrics, mesh: &TriMesh, elapsed: f64, second
         let n = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
         assert!((n - 1.0).abs() < 1e-9);
     }
-    if !cfg!(debug_assertions) {
-        let budget = common::budget(seconds);
-        assert!(elapsed <= budget, "{elapsed:.2} s > {budget} s");
-    }
+    common::check_time("the map", elapsed, seconds);
 }
 
 /// SDEM; returns the metrics after the common checks.

@@ -98,13 +98,7 @@ fn check(name: &str) {
     assert_eq!(m.flipped_triangles, 0);
     assert!(m.density_var_final <= 1e-4, "{}", m.density_var_final);
     assert_eq!(r.positions.len(), mesh.n_vertices());
-    if !cfg!(debug_assertions) {
-        assert!(
-            elapsed <= common::budget(1.0),
-            "{elapsed:.2} s > {} s",
-            common::budget(1.0)
-        );
-    }
+    common::check_time(name, elapsed, 1.0);
 }
 
 /// Area-preserving toroidal parameterization of `genus1/NAME.obj` onto its target torus.
@@ -128,13 +122,7 @@ fn parameterize(name: &str, table3: f64) {
     assert!(r.converged);
     assert_eq!(m.flipped_triangles, 0);
     assert!(m.density_error_mean <= table3, "{}", m.density_error_mean);
-    if !cfg!(debug_assertions) {
-        assert!(
-            elapsed <= common::budget(5.0),
-            "{elapsed:.2} s > {} s",
-            common::budget(5.0)
-        );
-    }
+    common::check_time(name, elapsed, 5.0);
 }
 
 macro_rules! parameterization_tests {
