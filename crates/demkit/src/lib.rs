@@ -52,6 +52,8 @@ pub mod metrics;
 pub mod population;
 pub mod qc;
 mod surface;
+#[cfg(test)]
+mod test_timing;
 
 pub use api::{Domain, Map, MapOptions, Method, Population, map, map_with_progress};
 pub use error::{Error, Result};

@@ -3,9 +3,11 @@
 //!
 //! The region of interest (ROI, the initial flattening map r₀) is shrunk into the unit disk,
 //! the gap up to the unit circle is filled with lattice points, at the ROI's mean edge length
-//! next to the ROI and coarsening geometrically away from it, and triangulated by a constrained Delaunay triangulation that keeps the ROI's own
-//! triangles; the triangulated unit disk D_T is then glued to its image under the reflection
-//! g(z) = 1/z̄ (4.18) along the unit circle (4.19)–(4.21), truncated at |z| ≤ η, and scaled back.
+//! next to the ROI and coarsening geometrically away from it ([`fill`]), and triangulated by a
+//! constrained Delaunay triangulation that keeps the ROI's own triangles ([`ring`]); the
+//! triangulated unit disk D_T is then glued to its image under the reflection g(z) = 1/z̄
+//! (4.18) along the unit circle (4.19)–(4.21), truncated at |z| ≤ η, cleaned into one disk
+//! ([`clean_up`], [`holes`]) and scaled back ([`roi`]).
 
 mod boundary_index;
 mod clean_up;
