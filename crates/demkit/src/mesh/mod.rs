@@ -4,6 +4,7 @@ pub mod scale;
 pub mod split;
 pub mod topology;
 pub mod triangulate;
+pub(crate) mod union_find;
 pub mod validate;
 pub mod weld;
 

@@ -174,16 +174,8 @@ pub fn ring_distances(
 ///
 /// Faces with an index `>= n_vertices` are ignored.
 pub fn connected_components(n_vertices: usize, faces: &[[u32; 3]]) -> (usize, Vec<u32>) {
-    let mut parent: Vec<u32> = (0..n_vertices as u32).collect();
+    let mut sets = super::union_find::UnionFind::new(n_vertices);
     let mut used = vec![false; n_vertices];
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            let p = parent[x as usize];
-            parent[x as usize] = parent[p as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
     for f in faces {
         if f.iter().any(|&v| v as usize >= n_vertices) {
             continue;
@@ -191,14 +183,9 @@ pub fn connected_components(n_vertices: usize, faces: &[[u32; 3]]) -> (usize, Ve
         for &v in f {
             used[v as usize] = true;
         }
-        for (a, b) in [(f[0], f[1]), (f[1], f[2])] {
-            let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
-            if ra != rb {
-                // Keep the smaller index as the root: labels come out in vertex order.
-                let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
-                parent[hi as usize] = lo;
-            }
-        }
+        // Each set is held by its smallest vertex: labels come out in vertex order.
+        sets.union(f[0], f[1]);
+        sets.union(f[1], f[2]);
     }
     let mut labels = vec![u32::MAX; n_vertices];
     let mut count = 0usize;
@@ -206,7 +193,7 @@ pub fn connected_components(n_vertices: usize, faces: &[[u32; 3]]) -> (usize, Ve
         if !used[v] {
             continue;
         }
-        let r = find(&mut parent, v as u32) as usize;
+        let r = sets.find(v as u32) as usize;
         if labels[r] == u32::MAX {
             labels[r] = count as u32;
             count += 1;

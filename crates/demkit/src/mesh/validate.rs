@@ -328,15 +328,7 @@ fn check_fans(n: usize, faces: &[[u32; 3]], errors: &mut Vec<String>) {
     let (offsets, ids) = vertex_faces(n, faces);
     let mut kind = Kind::new(errors);
     let mut spokes: Vec<(u32, u32)> = Vec::new(); // (other vertex, local face index)
-    let mut parent: Vec<u32> = Vec::new();
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            let p = parent[x as usize];
-            parent[x as usize] = parent[p as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
+    let mut sets = super::union_find::UnionFind::default();
     for v in 0..n {
         let around = &ids[offsets[v]..offsets[v + 1]];
         if around.len() < 2 {
@@ -351,16 +343,11 @@ fn check_fans(n: usize, faces: &[[u32; 3]], errors: &mut Vec<String>) {
             }
         }
         spokes.sort_unstable();
-        parent.clear();
-        parent.extend(0..around.len() as u32);
+        sets.reset(around.len());
         let mut fans = around.len();
         for w in spokes.windows(2) {
-            if w[0].0 == w[1].0 {
-                let (r0, r1) = (find(&mut parent, w[0].1), find(&mut parent, w[1].1));
-                if r0 != r1 {
-                    parent[r0.max(r1) as usize] = r0.min(r1);
-                    fans -= 1;
-                }
+            if w[0].0 == w[1].0 && sets.union(w[0].1, w[1].1) {
+                fans -= 1;
             }
         }
         if fans > 1 {

@@ -90,7 +90,7 @@ pub(super) fn clean_up(
     let nv = inc.start.len() - 1;
     let on_circle = |v: u32| (n_circle..n_disk).contains(&(v as usize));
     let mut list: Vec<Corner> = Vec::new();
-    let mut parent: Vec<usize> = Vec::new();
+    let mut sets = crate::mesh::union_find::UnionFind::default();
     loop {
         let mut changed = false;
 
@@ -143,19 +143,17 @@ pub(super) fn clean_up(
             list.clear();
             list.extend(inc.of(v, alive).copied());
             // Corner j follows corner i around v when j's face holds v → prev(i).
-            parent.clear();
-            parent.extend(0..list.len());
+            sets.reset(list.len());
             for i in 0..list.len() {
                 for j in 0..list.len() {
                     if list[j].next == list[i].prev {
-                        let (x, y) = (find(&mut parent, i), find(&mut parent, j));
-                        if x != y {
-                            parent[x.max(y)] = x.min(y);
-                        }
+                        sets.union(i as u32, j as u32);
                     }
                 }
             }
-            let roots: Vec<usize> = (0..list.len()).map(|i| find(&mut parent, i)).collect();
+            let roots: Vec<usize> = (0..list.len() as u32)
+                .map(|i| sets.find(i) as usize)
+                .collect();
             let mut size = vec![0usize; list.len()];
             let mut has_dt = vec![false; list.len()];
             for (i, &r) in roots.iter().enumerate() {
@@ -176,14 +174,6 @@ pub(super) fn clean_up(
             return;
         }
     }
-}
-
-pub(super) fn find(parent: &mut [usize], mut i: usize) -> usize {
-    while parent[i] != i {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    i
 }
 
 /// The directed boundary half-edges a → b of the alive faces (no alive face has b → a), as
