@@ -23,28 +23,8 @@ impl VertexFaces {
         faces: &[[u32; 3]],
         keep: impl Fn(usize, usize) -> bool,
     ) -> Self {
-        let mut ptr = vec![0usize; n_vertices + 1];
-        for (f, face) in faces.iter().enumerate() {
-            for &v in face {
-                if keep(v as usize, f) {
-                    ptr[v as usize + 1] += 1;
-                }
-            }
-        }
-        for i in 0..n_vertices {
-            ptr[i + 1] += ptr[i];
-        }
-        let mut fill = ptr.clone();
-        let mut list = vec![0u32; ptr[n_vertices]];
-        for (f, face) in faces.iter().enumerate() {
-            for &v in face {
-                if keep(v as usize, f) {
-                    list[fill[v as usize]] = f as u32;
-                    fill[v as usize] += 1;
-                }
-            }
-        }
-        Self { ptr, faces: list }
+        let (ptr, faces) = crate::mesh::topology::vertex_faces_where(n_vertices, faces, keep);
+        Self { ptr, faces }
     }
 
     /// Number of vertices.

@@ -99,10 +99,25 @@ pub fn edges(faces: &[[u32; 3]]) -> Vec<[u32; 2]> {
 /// # Panics
 /// If a face uses a vertex index `>= n_vertices` (validated meshes never do).
 pub fn vertex_faces(n_vertices: usize, faces: &[[u32; 3]]) -> (Vec<usize>, Vec<u32>) {
+    vertex_faces_where(n_vertices, faces, |_, _| true)
+}
+
+/// [`vertex_faces`] keeping only the pairs (vertex, face) for which `keep(vertex, face)` is
+/// true.
+///
+/// # Panics
+/// If a face uses a vertex index `>= n_vertices` (validated meshes never do).
+pub fn vertex_faces_where(
+    n_vertices: usize,
+    faces: &[[u32; 3]],
+    keep: impl Fn(usize, usize) -> bool,
+) -> (Vec<usize>, Vec<u32>) {
     let mut offsets = vec![0usize; n_vertices + 1];
-    for f in faces {
+    for (fi, f) in faces.iter().enumerate() {
         for &v in f {
-            offsets[v as usize + 1] += 1;
+            if keep(v as usize, fi) {
+                offsets[v as usize + 1] += 1;
+            }
         }
     }
     for i in 0..n_vertices {
@@ -112,9 +127,11 @@ pub fn vertex_faces(n_vertices: usize, faces: &[[u32; 3]]) -> (Vec<usize>, Vec<u
     let mut ids = vec![0u32; offsets[n_vertices]];
     for (fi, f) in faces.iter().enumerate() {
         for &v in f {
-            let slot = &mut fill[v as usize];
-            ids[*slot] = fi as u32;
-            *slot += 1;
+            if keep(v as usize, fi) {
+                let slot = &mut fill[v as usize];
+                ids[*slot] = fi as u32;
+                *slot += 1;
+            }
         }
     }
     (offsets, ids)
