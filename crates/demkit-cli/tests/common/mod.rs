@@ -328,20 +328,8 @@ pub fn json_file(path: &Path) -> serde_json::Value {
     json(&text)
 }
 
-/// Whether the wall-clock budgets are checked: only when `DEMKIT_CHECK_TIME` is set, in a
-/// release build. The budgets are the issues' figures on an idle 2-core machine (measure them with
-/// `DEMKIT_CHECK_TIME=1 cargo test --release -- --ignored --test-threads=1`); CI's shared machines
-/// ran the same build up to twice as slow from one run to the next, so CI prints the times and
-/// leaves the budgets to that idle measurement.
-#[allow(dead_code)]
-pub fn checking_time() -> bool {
-    !cfg!(debug_assertions) && std::env::var_os("DEMKIT_CHECK_TIME").is_some()
-}
-
-/// Asserts `elapsed <= seconds` for `what` when [`checking_time`].
-#[allow(dead_code)]
-pub fn check_time(what: &str, elapsed: f64, seconds: f64) {
-    if checking_time() {
-        assert!(elapsed <= seconds, "{what}: {elapsed:.2} s > {seconds} s");
-    }
-}
+/// The wall-clock budgets: printed always, asserted with `DEMKIT_CHECK_TIME` (see the file).
+#[path = "../../../demkit/src/test_timing.rs"]
+mod timing;
+#[allow(unused_imports)]
+pub(crate) use timing::{check_time, checking_time};
