@@ -5,7 +5,6 @@
 
 use crate::TriMesh;
 use crate::fem::VertexFaces;
-use crate::geometry::sphere::spherical_orientation;
 use crate::geometry::{face_areas, signed_areas_2d};
 use crate::qc::{beltrami_coefficient_surface, beltrami_coefficient_surfaces};
 
@@ -75,10 +74,7 @@ pub fn map_areas(map: &[[f64; 3]], faces: &[[u32; 3]], domain: Domain) -> (Vec<f
         Domain::Sphere => {
             let flipped = faces
                 .iter()
-                .filter(|f| {
-                    let [a, b, c] = f.map(|v| map[v as usize]);
-                    !(spherical_orientation(a, b, c) > 0.0)
-                })
+                .filter(|&&f| crate::geometry::sphere::spherical_flipped(map, f))
                 .count();
             (face_areas(map, faces), flipped)
         }

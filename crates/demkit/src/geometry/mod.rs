@@ -85,15 +85,19 @@ pub fn triangle_normal(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
     if l > 0.0 { scale(n, 1.0 / l) } else { [0.0; 3] }
 }
 
+/// Whether face `f` of a planar map (x, y) that should be counter-clockwise is flipped or
+/// collapsed: its signed area is not positive (or not a number). The one flip predicate of the
+/// plane; the sphere's is [`sphere::spherical_flipped`], the flat torus's
+/// [`torus::FlatTorus::count_flipped`].
+#[inline]
+pub fn planar_flipped(map: &[[f64; 3]], f: [u32; 3]) -> bool {
+    !(signed_area_2d(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize]) > 0.0)
+}
+
 /// Number of faces of a planar map (x, y) whose signed area is not positive: the flipped or
-/// collapsed faces of a map that should be counter-clockwise.
+/// collapsed faces of a map that should be counter-clockwise ([`planar_flipped`]).
 pub fn count_nonpositive(map: &[[f64; 3]], faces: &[[u32; 3]]) -> usize {
-    faces
-        .iter()
-        .filter(|f| {
-            !(signed_area_2d(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize]) > 0.0)
-        })
-        .count()
+    faces.iter().filter(|&&f| planar_flipped(map, f)).count()
 }
 
 /// Cotangents of the three corner angles of triangle (a, b, c): entry `k` is the cotangent of

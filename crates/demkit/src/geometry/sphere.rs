@@ -46,6 +46,14 @@ pub fn spherical_orientation(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     dot(a, cross(b, c))
 }
 
+/// Whether face `f` of a map onto the unit sphere is flipped: not counter-clockwise seen from
+/// outside ([`spherical_orientation`] not positive, or not a number). The one flip predicate of
+/// the sphere.
+#[inline]
+pub fn spherical_flipped(map: &[[f64; 3]], f: [u32; 3]) -> bool {
+    !(spherical_orientation(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize]) > 0.0)
+}
+
 /// `p / |p|` (the origin stays put).
 #[inline]
 pub fn normalize(p: [f64; 3]) -> [f64; 3] {

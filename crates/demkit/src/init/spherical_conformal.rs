@@ -15,9 +15,7 @@
 //! The Möbius area correction that follows is in [`super::mobius`].
 
 use crate::fem::cotangent_weights;
-use crate::geometry::sphere::{
-    project_from_south, spherical_orientation, unproject_from_north, unproject_from_south,
-};
+use crate::geometry::sphere::{project_from_south, unproject_from_north, unproject_from_south};
 use crate::geometry::{local_frame, norm, sub};
 use crate::linalg::{CachedCholesky, StiffnessPattern};
 use crate::qc::{LinearBeltramiSolver, triangle_beltrami, truncate};
@@ -48,11 +46,7 @@ pub fn face_regularity(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
 pub fn count_spherical_flips(map: &[[f64; 3]], faces: &[[u32; 3]]) -> usize {
     faces
         .par_iter()
-        .filter(|f| {
-            let o =
-                spherical_orientation(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize]);
-            !(o > 0.0)
-        })
+        .filter(|&&f| crate::geometry::sphere::spherical_flipped(map, f))
         .count()
 }
 

@@ -12,7 +12,7 @@ use super::disk_input::default_time_step;
 use super::{Progress, StopReason};
 use crate::Result;
 use crate::fem::{DiffusionOperator, VertexFaces, face_gradient_into};
-use crate::geometry::{face_areas, signed_area_2d};
+use crate::geometry::face_areas;
 use crate::init::shape::Shape;
 use crate::metrics::normalized_variance;
 use rayon::prelude::*;
@@ -287,7 +287,7 @@ fn has_flip(r: &[[f64; 3]], faces: &[[u32; 3]]) -> bool {
     use rayon::prelude::*;
     faces
         .par_iter()
-        .any(|f| !(signed_area_2d(r[f[0] as usize], r[f[1] as usize], r[f[2] as usize]) > 0.0))
+        .any(|&f| crate::geometry::planar_flipped(r, f))
 }
 
 /// The first time `t > 0` at which the triangle `p + t s` (corners moving linearly) has zero

@@ -15,8 +15,8 @@
 
 use crate::fem::VertexFaces;
 use crate::geometry::sphere::{
-    mat_t_vec, mat_vec, normalize, project_from_north, rotation_to_north, spherical_orientation,
-    unproject_from_north,
+    mat_t_vec, mat_vec, normalize, project_from_north, rotation_to_north, spherical_flipped,
+    spherical_orientation, unproject_from_north,
 };
 use crate::geometry::{add, dot, scale};
 use crate::qc::{LinearBeltramiSolver, beltrami_coefficient, truncate};
@@ -40,10 +40,7 @@ fn flipped_faces(map: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<usize> {
     faces
         .par_iter()
         .enumerate()
-        .filter(|(_, f)| {
-            !(spherical_orientation(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize])
-                > 0.0)
-        })
+        .filter(|&(_, &f)| spherical_flipped(map, f))
         .map(|(i, _)| i)
         .collect()
 }
@@ -230,9 +227,7 @@ impl OverlapCorrector {
 
 /// True when some face of `map` is not counter-clockwise seen from outside.
 pub(crate) fn has_spherical_flip(map: &[[f64; 3]], faces: &[[u32; 3]]) -> bool {
-    faces.par_iter().any(|f| {
-        !(spherical_orientation(map[f[0] as usize], map[f[1] as usize], map[f[2] as usize]) > 0.0)
-    })
+    faces.par_iter().any(|&f| spherical_flipped(map, f))
 }
 
 /// The first `t ∈ (0, 2]` at which the face with corners `p + t s` has a non-positive

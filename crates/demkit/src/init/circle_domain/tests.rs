@@ -18,13 +18,7 @@ fn run(mesh: &TriMesh) -> (CircleDomain, CircleDomainReport) {
 
 /// Zero flips and every boundary vertex on its circle to 1e-12 relative.
 fn check_domain(d: &CircleDomain, faces: &[[u32; 3]]) {
-    let flips = faces
-        .iter()
-        .filter(|f| {
-            let p = f.map(|v| d.positions[v as usize]);
-            !(signed_area_2d(p[0], p[1], p[2]) > 0.0)
-        })
-        .count();
+    let flips = crate::geometry::count_nonpositive(&d.positions, faces);
     assert_eq!(flips, 0);
     assert_eq!(d.centers[0], [0.0, 0.0]);
     assert_eq!(d.radii[0], 1.0);
