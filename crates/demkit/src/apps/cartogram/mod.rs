@@ -1,28 +1,30 @@
-//! Contiguous area cartograms (DEM paper §6.1; on the globe, SDEM paper §5.3): regions read
-//! from GeoJSON are triangulated together with the sea around them, every triangle gets its
-//! region's value in proportion to its share of the region's area, the density-equalizing map
-//! of that mesh is computed, and every region vertex is moved with the map. Neighbouring
-//! regions keep sharing their borders, since a border is one chain of mesh edges, and the map
-//! is bijective, so regions cannot overlap.
+//! Contiguous area cartograms. In the plane ([`planar`]), the flow-based method of Gastner,
+//! Seguy & More (2018): the regions' densities are rasterized on a grid, diffused in closed
+//! form with the discrete cosine transform, and every vertex moves with the diffusion's
+//! velocity field, in rounds, until every region's share of the total area is within
+//! [`Config::tolerance`] of its share of the values. On the globe ([`sphere`]), the same flow
+//! in an equal-area projection.
 //!
-//! The output rings are the images of the input rings under the piecewise-linear map: each
-//! input vertex, followed by the mesh vertices the triangulation put on its edge to the next
-//! one (a straight edge becomes a polyline). The ring structure (polygons, rings) is kept.
+//! Neighbouring regions keep sharing their borders: all regions move over one shared vertex
+//! list. The ring structure (polygons, rings) is kept; edges may gain vertices.
+//!
+//! Errors are measured on shares: a region's error is |A_i/ΣA − v_i/Σv| / (v_i/Σv), and only
+//! the regions with at least [`MIN_COUNTED_SHARE`] of the total value count towards
+//! convergence.
 
+mod advect;
 mod buckets;
+mod densify;
+pub mod diffusion;
 pub mod geojson;
 pub mod planar;
+pub mod raster;
 pub mod regions;
 pub mod sphere;
 pub mod svg;
-pub mod triangulate;
 
 use crate::methods::StopReason;
 use regions::{RegionSet, polygon_area};
-
-/// A round changes a region's value by at most this factor (or its inverse), so that a region
-/// the map cannot resize further does not run away.
-pub(crate) const MIN_CORRECTION: f64 = 0.5;
 
 /// A polygon's rings (exterior first, then holes), each a list of positions without the
 /// closing repetition.
@@ -60,34 +62,12 @@ pub fn check_max_faces(n: usize) -> crate::Result<()> {
     Ok(())
 }
 
-/// The refusal of regions whose mesh would exceed [`MAX_FACES`] even at its coarsest
-/// (`least` faces: every region vertex, the points on the polygons' edges and a few inside
-/// each; infinite when only known to be beyond [`MAX_FACES`]), with the estimate.
-pub(crate) fn mesh_too_large(set: &RegionSet, least: f64, path: &str) -> crate::Error {
-    let polygons: usize = set.regions.iter().map(|r| r.polygons.len()).sum();
-    let size = if least.is_finite() {
-        format!(
-            "about {least:.0} faces, about {:.0} GB of memory",
-            gigabytes(least)
-        )
-    } else {
-        format!("more than {MAX_FACES} faces")
-    };
-    crate::Error::Format {
-        path: path.to_string(),
-        msg: format!(
-            "the regions ({polygons} polygons, {} vertices) need a mesh of at least {size}; at \
-             most {MAX_FACES} faces",
-            set.points.len()
-        ),
-    }
-}
-
 /// Cartogram settings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Config {
     /// About how many triangles would fill the regions and their sea at the base spacing,
-    /// where no polygon asks for finer (see [`triangulate::Resolution`]).
+    /// where no polygon asks for finer (the mesh-based engine's setting; the flow has no
+    /// mesh and ignores it).
     pub target_faces: usize,
     /// Every polygon gets about this many triangles where [`Config::max_faces`] allows.
     pub polygon_faces: usize,
@@ -95,12 +75,18 @@ pub struct Config {
     /// mesh stays under about this many (it always has every region vertex). At most
     /// [`MAX_FACES`].
     pub max_faces: usize,
-    /// DEM's iteration limit per round (`None`: DEM's default).
+    /// The iteration limit per round (`None`: the method's default; in the plane, the flow's
+    /// integration steps).
     pub max_iter: Option<usize>,
-    /// At most this many DEM rounds (each starts from the map the previous one reached).
+    /// At most this many rounds (each starts from the map the previous one reached).
     pub rounds: usize,
-    /// No further round once every region's area/value is within this fraction of the mean.
+    /// No further round once every region that counts (see [`counts`]) has a share error
+    /// within this fraction; the cartogram has converged when it does (default 1 %).
     pub tolerance: f64,
+    /// The planar grid's longer side, in cells (a power of two, default 512).
+    pub grid: usize,
+    /// No further round starts after this many seconds (`None`: no limit).
+    pub time_limit: Option<f64>,
     /// DEM's stationary test: a round ends when its density error has improved by less than
     /// 2% over this many iterations. Sharp steps of density between regions make DEM's
     /// progress slow but steady, so the default waits longer than DEM's own 5.
@@ -110,17 +96,6 @@ pub struct Config {
 /// The default cap on the mesh (see [`Config::max_faces`]).
 pub const DEFAULT_MAX_FACES: usize = 150_000;
 
-impl Config {
-    /// The mesh resolution these settings ask for.
-    pub fn resolution(&self) -> triangulate::Resolution {
-        triangulate::Resolution {
-            base_faces: self.target_faces,
-            polygon_faces: self.polygon_faces,
-            max_faces: self.max_faces,
-        }
-    }
-}
-
 impl Default for Config {
     fn default() -> Self {
         Self {
@@ -128,8 +103,10 @@ impl Default for Config {
             polygon_faces: 200,
             max_faces: DEFAULT_MAX_FACES,
             max_iter: None,
-            rounds: 10,
+            rounds: 30,
             tolerance: 0.01,
+            grid: 512,
+            time_limit: None,
             patience: 10,
         }
     }
@@ -153,6 +130,8 @@ pub struct RegionFigures {
     pub output_share: f64,
     /// (output area / value) / mean over the regions of (output area / value) − 1.
     pub ratio_error: f64,
+    /// The relative error of its share: output_share / target_share − 1.
+    pub error: f64,
 }
 
 /// A computed cartogram.
@@ -166,6 +145,13 @@ pub struct Cartogram {
     pub median_error: f64,
     /// Largest |ratio_error|.
     pub worst_error: f64,
+    /// Mean |share error| over the regions that count (see [`counts`]).
+    pub mean_error: f64,
+    /// Largest |share error| over the regions that count.
+    pub max_error: f64,
+    /// The region with the largest |share error| that counts (its label).
+    pub max_error_region: String,
+
     /// How the run went.
     pub run: Run,
 }
@@ -181,8 +167,10 @@ pub struct Run {
     pub stop_reason: StopReason,
     /// Size of the mesh (regions and sea, without the method's own sea).
     pub mesh_vertices: usize,
-    /// See `mesh_vertices`.
+    /// See `mesh_vertices` (0 for the planar flow, which has no mesh).
     pub mesh_faces: usize,
+    /// The planar flow's grid in its last round, cells along x and y (0 without one).
+    pub grid: [usize; 2],
     /// Mesh faces the map flipped (0 for a bijective map).
     pub flipped_triangles: usize,
     /// Remarks of the method.
@@ -252,6 +240,33 @@ pub fn ratio_errors_of_areas(values: &[f64], areas: &[f64]) -> Vec<f64> {
 pub(crate) fn unit_values(values: &[f64]) -> Vec<f64> {
     let max = values.iter().fold(0.0f64, |m, &v| m.max(v));
     values.iter().map(|v| v / max).collect()
+}
+
+/// Regions with at least this share of the total value count towards convergence; smaller
+/// ones are reported but may stay further off (a grid cell is the flow's resolution).
+pub const MIN_COUNTED_SHARE: f64 = 1e-4;
+
+/// Whether a region with this target share counts towards convergence.
+pub fn counts(target_share: f64) -> bool {
+    target_share >= MIN_COUNTED_SHARE
+}
+
+/// Every region's share error |A_i/ΣA − v_i/Σv| / (v_i/Σv), signed (positive: too large).
+pub fn share_errors(values: &[f64], areas: &[f64]) -> Vec<f64> {
+    let unit = unit_values(values);
+    let vt: f64 = unit.iter().sum();
+    let at: f64 = areas.iter().sum();
+    unit.iter()
+        .zip(areas)
+        .map(|(v, a)| {
+            let target = v / vt;
+            if target > 0.0 && at > 0.0 {
+                (a / at) / target - 1.0
+            } else {
+                f64::INFINITY
+            }
+        })
+        .collect()
 }
 
 /// Median and maximum of |e|.
@@ -329,6 +344,20 @@ pub(crate) fn figures(
     let unit = unit_values(&values);
     let value_total: f64 = unit.iter().sum();
     let area_total: f64 = measured.iter().sum();
+    let shares = share_errors(&values, measured);
+    let (mut sum, mut n, mut max_error, mut max_error_region) = (0.0, 0, 0.0f64, String::new());
+    for (i, r) in set.regions.iter().enumerate() {
+        if counts(unit[i] / value_total) {
+            let e = shares[i].abs();
+            sum += e;
+            n += 1;
+            if e > max_error || max_error_region.is_empty() {
+                max_error = e;
+                max_error_region = r.label.clone();
+            }
+        }
+    }
+    let mean_error = if n > 0 { sum / n as f64 } else { 0.0 };
     let regions = set
         .regions
         .iter()
@@ -341,6 +370,7 @@ pub(crate) fn figures(
             target_share: unit[i] / value_total,
             output_share: measured[i] / area_total,
             ratio_error: errors[i],
+            error: shares[i],
         })
         .collect();
     Cartogram {
@@ -348,6 +378,9 @@ pub(crate) fn figures(
         regions,
         median_error,
         worst_error,
+        mean_error,
+        max_error,
+        max_error_region,
         run,
     }
 }

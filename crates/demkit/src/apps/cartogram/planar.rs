@@ -1,282 +1,361 @@
-//! The planar cartogram (DEM paper §6.1): DEM (Algorithm 5) on the regions' mesh with its sea,
-//! repeated from the map reached while the regions' areas are still off their values.
+//! The planar cartogram by the diffusion flow of Gastner, Seguy & More (2018): the regions'
+//! densities (value / area, the sea at the mean density) are rasterized on a grid around the
+//! map ([`super::raster`]), diffused in closed form ([`super::diffusion`]), and every vertex
+//! moves with the flow until the density is uniform ([`super::advect`]). Rounds repeat this
+//! from the map reached, with densities from the current areas, until every region's share of
+//! the area is within [`Config::tolerance`] of its share of the values.
+//!
+//! All regions move over one shared vertex list, so a border shared by two regions stays
+//! shared; the flow's map is one-to-one, so regions cannot overlap. Long edges get extra
+//! vertices before each round ([`super::densify`]), so that straight edges follow the map.
 
-use super::triangulate::RegionMesh;
-use super::{Cartogram, Config, MIN_CORRECTION, Polygon, finish, unit_values};
-use crate::geometry::count_nonpositive;
-use crate::methods::{ProgressFn, StopReason, dem};
-use crate::{Result, TriMesh};
+use super::advect::advect;
+use super::diffusion::Diffusion;
+use super::raster::{self, IndexRings, polygon_area_centroid};
+use super::regions::RegionSet;
+use super::{Cartogram, Config, Polygon, finish, share_errors, unit_values};
+use crate::methods::{Progress, ProgressFn, StopReason};
+use crate::{Error, Result};
 use std::time::Instant;
 
-/// The map's own sea (DEM's reflection sea, Algorithm 4) is truncated at this radius: the
-/// mesh has its sea already, so DEM's is kept to a thin ring (measured on 2500 squares: 1.6
-/// times fewer unknowns than with DEM's η = 5, the same areas, half the time).
-const SEA_ETA: f64 = 1.25;
+/// The sea around the map on every side, as a fraction of the map's larger extent.
+const MARGIN: f64 = 0.25;
 
-/// The mesh's farthest vertex sits at this radius of the unit disk when DEM builds its sea
-/// (DEM's own default; a thinner ring, 0.95, measured worse areas on irregular cells).
-const SEA_ROI_RADIUS: f64 = 0.85;
+/// The grid's shorter side is a multiple of its longer side divided by this.
+const SIDE_STEP: usize = 16;
 
-/// The rounds stop when this many in a row have not lowered the worst error, even with their
-/// corrections halved: the map then only moves around the same accuracy.
-const STALL_ROUNDS: usize = 3;
+/// The rounds stop when this many in a row have not lowered the worst error.
+const STALL_ROUNDS: usize = 4;
 
-/// The best round so far.
-struct BestRound {
-    /// Its worst |area/value error|.
-    worst: f64,
-    /// The regions' rings.
-    coordinates: Vec<Vec<Polygon>>,
-    /// The mesh positions.
-    positions: Vec<[f64; 3]>,
-    /// The values the round was run with, and the errors it left.
-    effective: Vec<f64>,
-    errors: Vec<f64>,
+/// The first round's flow starts from the density diffused for this time (cells², a blur
+/// of about √(2·BLUR) cells), each later round's from half the previous one's: the sharp
+/// steps of density between regions would otherwise ask for tiny first steps.
+const BLUR: f64 = 4.0;
+
+/// Accepted integration steps per round when [`Config::max_iter`] is not set.
+const DEFAULT_STEPS: usize = 10_000;
+
+/// Refuses a grid side that is not a power of two in [16, 8192].
+pub fn check_grid(grid: usize) -> Result<()> {
+    if !(16..=8192).contains(&grid) || !grid.is_power_of_two() {
+        return Err(Error::Argument(format!(
+            "--grid must be a power of two from 16 to 8192, got {grid}"
+        )));
+    }
+    Ok(())
 }
 
-/// The population of every face (DEM paper §6.1): a region's value spread over its faces in
-/// proportion to their areas, and the sea at the regions' mean density (value per area), so
-/// that it neither grows nor shrinks on average (GN's sea, DEM paper §3).
-pub fn face_population(values: &[f64], face_region: &[Option<usize>], areas: &[f64]) -> Vec<f64> {
-    let mut region_area = vec![0.0; values.len()];
-    for (r, a) in face_region.iter().zip(areas) {
-        if let Some(r) = r {
-            region_area[*r] += a;
-        }
-    }
-    let mean_density = values.iter().sum::<f64>() / region_area.iter().sum::<f64>();
-    face_region
+/// The regions' areas (holes subtracted) over `points`.
+pub fn region_areas(points: &[[f64; 2]], rings: &[IndexRings]) -> Vec<f64> {
+    rings
         .iter()
-        .zip(areas)
-        .map(|(r, a)| match r {
-            Some(r) => values[*r] * a / region_area[*r],
-            None => mean_density * a,
+        .map(|polys| {
+            polys
+                .iter()
+                .map(|p| polygon_area_centroid(points, p).0)
+                .sum()
         })
         .collect()
 }
 
-/// Computes the planar cartogram of `set` (coordinates in the plane).
-///
-/// The mesh of [`RegionMesh::build`] is mapped by DEM; while the worst region's area/value is
-/// more than `config.tolerance` off the mean and rounds are left, DEM runs again from the map
-/// reached, with every region's value divided by 1 + its remaining error (at most by a factor
-/// 2 either way per round): the discrete map is biased at the regions' borders (a vertex's
-/// density averages both sides), and this fixed-point correction removes the bias. Each round
-/// starts from the best one so far, with that round's correction, halved for every round
-/// since that did not improve on it; the rounds stop after [`STALL_ROUNDS`] such rounds in a
-/// row. The round with the smallest worst error is the result.
-/// The result is scaled so that the regions' total area is the input's and moved so that their
-/// area centroid is the input's. The computation runs in the set's normalised frame, on values
-/// scaled to a largest value of 1, so any finite coordinates and values give the same map.
-///
-/// Errors: a cap outside [`super::check_max_faces`]'s range ([`crate::Error::Argument`]); a
-/// mesh beyond [`super::MAX_FACES`], refused before it is built, and the mesh's own errors
-/// ([`RegionMesh::build`]); DEM's.
-pub fn run(
-    set: &super::regions::RegionSet,
-    config: &Config,
-    path: &str,
-    progress: ProgressFn,
-) -> Result<Cartogram> {
-    let t0 = Instant::now();
-    super::check_max_faces(config.max_faces)?;
-    let mesh = RegionMesh::build(set, &config.resolution(), path)?;
-    let values = unit_values(&set.regions.iter().map(|r| r.value).collect::<Vec<_>>());
-    let input: Vec<[f64; 3]> = mesh.points.iter().map(|p| [p[0], p[1], 0.0]).collect();
-    let areas0 = crate::geometry::face_areas(&input, &mesh.faces);
-    let (c_in, a_in) = region_centroid(&input, &mesh, &areas0);
+/// Total area and area centroid of the regions.
+fn centroid(points: &[[f64; 2]], rings: &[IndexRings]) -> (f64, [f64; 2]) {
+    let (mut a, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for p in rings.iter().flatten() {
+        let (s, c) = polygon_area_centroid(points, p);
+        a += s;
+        cx += s * c[0];
+        cy += s * c[1];
+    }
+    if a > 0.0 {
+        (a, [cx / a, cy / a])
+    } else {
+        (0.0, [0.0, 0.0])
+    }
+}
 
-    let mut dem_config = dem::Config::default();
-    if let Some(n) = config.max_iter {
-        dem_config.max_iter = n;
-    }
-    dem_config.patience = config.patience;
-    dem_config.eta = SEA_ETA;
-    dem_config.roi_radius = SEA_ROI_RADIUS;
-    let mut positions = input.clone();
-    let mut iterations = 0;
-    let mut rounds = 0;
-    let mut stop_reason = StopReason::Tolerance;
-    let mut notes = Vec::new();
-    if let Some(n) = mesh_note(set, config, &mesh) {
-        notes.push(n);
-    }
-    let mut best: Option<BestRound> = None;
-    let mut since_best = 0;
-    // The values the populations are made of: the regions' own at first, then corrected by
-    // each round's remaining error (a region that came out too large gets a smaller value).
-    let mut effective = values.clone();
-    for round in 0..config.rounds.max(1) {
-        let population = face_population(&effective, &mesh.face_region, &areas0);
-        let current = TriMesh::new(positions.clone(), mesh.faces.clone());
-        let r = dem::run(&current, &population, &dem_config, progress)?;
-        iterations += r.iterations;
-        rounds = round + 1;
-        stop_reason = r.stop_reason;
-        for n in r.notes {
-            if !notes.contains(&n) {
-                notes.push(n);
-            }
+/// The worst share error over the regions that count (see [`super::counts`]).
+fn worst(errors: &[f64], targets: &[f64]) -> f64 {
+    errors
+        .iter()
+        .zip(targets)
+        .filter(|(_, t)| super::counts(**t))
+        .fold(0.0f64, |m, (e, _)| m.max(e.abs()))
+}
+
+/// The largest gain of [`update_gain`].
+const MAX_GAIN: f64 = 2.5;
+
+/// A region whose share is within this log-ratio of its target gets no gain.
+const MIN_WANTED: f64 = 0.02;
+
+/// Adapts every region's gain, the exponent its density contrast is raised to in a round: a
+/// round moves a region's share only part of the way to its target when the region spans few
+/// cells, or sits between much denser neighbours; the next round asks for correspondingly
+/// more (the geometric mean of its gain and the inverse of the fraction achieved, within
+/// [1, [`MAX_GAIN`]]). At the target the
+/// contrast is 1 whatever the gain, so the fixed point is the cartogram's.
+fn update_gain(gain: &mut [f64], targets: &[f64], before: &[f64], after: &[f64]) {
+    let (tb, ta): (f64, f64) = (before.iter().sum(), after.iter().sum());
+    for i in 0..gain.len() {
+        let (sb, sa) = (before[i] / tb, after[i] / ta);
+        if !(sb > 0.0 && sa > 0.0 && targets[i] > 0.0) {
+            continue;
         }
-        // Same regions' area and centroid as the input.
-        let areas = crate::geometry::face_areas(&r.positions, &mesh.faces);
-        let (c, a) = region_centroid(&r.positions, &mesh, &areas);
-        let k = (a_in / a).sqrt();
-        positions = r
-            .positions
-            .iter()
-            .map(|p| {
-                [
-                    c_in[0] + k * (p[0] - c[0]),
-                    c_in[1] + k * (p[1] - c[1]),
-                    0.0,
-                ]
-            })
-            .collect();
-        let coordinates = output_coordinates(set, &mesh, &positions);
-        let errors = super::ratio_errors(&values, &coordinates);
-        let worst = errors.iter().fold(0.0f64, |m, e| m.max(e.abs()));
-        if best.as_ref().is_none_or(|b| worst < b.worst) {
-            best = Some(BestRound {
-                worst,
-                coordinates,
-                positions: positions.clone(),
-                effective: effective.clone(),
-                errors,
-            });
+        let wanted = (targets[i] / sb).ln();
+        let achieved = (sa / sb).ln();
+        if wanted.abs() < MIN_WANTED {
+            gain[i] = 1.0;
+            continue;
+        }
+        let fraction = achieved / (wanted * gain[i]);
+        let next = if fraction > 0.0 {
+            (1.0 / fraction).clamp(1.0, MAX_GAIN)
+        } else {
+            1.0
+        };
+        gain[i] = (gain[i] * next).sqrt();
+    }
+}
+
+/// One round of the flow: rasterize, diffuse, move `points` (in place). Returns the
+/// integration steps taken and the grid.
+fn round(
+    points: &mut Vec<[f64; 2]>,
+    rings: &mut [IndexRings],
+    values: &[f64],
+    grid: usize,
+    max_steps: usize,
+    blur: f64,
+    gain: &[f64],
+) -> (usize, [usize; 2]) {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in points.iter() {
+        for c in 0..2 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    let (w, h) = (hi[0] - lo[0], hi[1] - lo[1]);
+    let long = w.max(h);
+    let margin = MARGIN * long;
+    let cell = (long + 2.0 * margin) / grid as f64;
+    let step = (grid / SIDE_STEP).max(1);
+    let side = |e: f64| {
+        let n = ((e + 2.0 * margin) / cell).ceil() as usize;
+        (n.div_ceil(step) * step).clamp(step, grid)
+    };
+    let (nx, ny) = (side(w), side(h));
+    let origin = [
+        0.5 * (lo[0] + hi[0]) - 0.5 * nx as f64 * cell,
+        0.5 * (lo[1] + hi[1]) - 0.5 * ny as f64 * cell,
+    ];
+    for p in points.iter_mut() {
+        *p = [(p[0] - origin[0]) / cell, (p[1] - origin[1]) / cell];
+    }
+    super::densify::densify(points, rings, 1.0);
+    let areas = region_areas(points, rings);
+    let total_value: f64 = values.iter().sum();
+    let total_area: f64 = areas.iter().sum();
+    let sea = total_value / total_area;
+    let density: Vec<f64> = values
+        .iter()
+        .zip(&areas)
+        .zip(gain)
+        .map(|((v, a), g)| {
+            if *a > 0.0 {
+                sea * (v / a / sea).powf(*g)
+            } else {
+                sea
+            }
+        })
+        .collect();
+    let rho = raster::density(points, rings, &density, sea, nx, ny);
+    let diffusion = Diffusion::new(&rho, nx, ny);
+    let ti = Instant::now();
+    let integration = advect(&diffusion, nx, ny, points, max_steps, blur);
+    if std::env::var_os("DEMKIT_CARTO_DEBUG").is_some() {
+        eprintln!("  {integration:?} {:.2}s", ti.elapsed().as_secs_f64());
+    }
+    for p in points.iter_mut() {
+        *p = [origin[0] + p[0] * cell, origin[1] + p[1] * cell];
+    }
+    (integration.steps, [nx, ny])
+}
+
+/// What the rounds of the flow reached: the moved vertices and the rings over them.
+pub struct Flowed {
+    /// The vertices (the input's first, then those added on long edges).
+    pub points: Vec<[f64; 2]>,
+    /// Every region's polygons → rings → indices into `points`.
+    pub rings: Vec<IndexRings>,
+    /// The output as coordinates, in the regions' ring structure.
+    pub coordinates: Vec<Vec<Polygon>>,
+    /// How the run went (no mesh: `mesh_faces` 0, `mesh_vertices` the vertices).
+    pub run: super::Run,
+}
+
+/// Runs rounds of the flow on regions given as `rings` over `points` with `values` (all
+/// positive), in any plane coordinates, and returns the best round (the lowest worst share
+/// error of the regions that count, see [`super::counts`]), scaled so that the regions'
+/// total area is the input's and moved so that their area centroid is the input's.
+///
+/// Rounds run while the worst error is above `config.tolerance`, at most `config.rounds` of
+/// them, none started after `config.time_limit`, and until [`STALL_ROUNDS`] in a row have
+/// not improved on the best.
+///
+/// Errors: a grid side refused by [`check_grid`].
+pub fn flow(
+    points: Vec<[f64; 2]>,
+    rings: Vec<IndexRings>,
+    values: &[f64],
+    labels: &[String],
+    config: &Config,
+    progress: ProgressFn,
+) -> Result<Flowed> {
+    let t0 = Instant::now();
+    check_grid(config.grid)?;
+    let values = unit_values(values);
+    let total: f64 = values.iter().sum();
+    let targets: Vec<f64> = values.iter().map(|v| v / total).collect();
+    let (mut points, mut rings) = (points, rings);
+    let (a_in, c_in) = centroid(&points, &rings);
+    let max_steps = config.max_iter.unwrap_or(DEFAULT_STEPS).max(1);
+    let rounds_cap = config.rounds.max(1);
+    let mut best: Option<(f64, Vec<[f64; 2]>, Vec<IndexRings>)> = None;
+    let (mut since_best, mut steps, mut rounds) = (0, 0, 0);
+    let mut grid_used = [0, 0];
+    let mut stop_reason = StopReason::MaxIter;
+    let mut notes = Vec::new();
+    let mut gain = vec![1.0; values.len()];
+    loop {
+        let errors = share_errors(&values, &region_areas(&points, &rings));
+        let w = worst(&errors, &targets);
+        progress(Progress {
+            iteration: rounds,
+            max_iter: rounds_cap,
+            error: w,
+        });
+        if best.as_ref().is_none_or(|b| w < b.0) {
+            best = Some((w, points.clone(), rings.clone()));
             since_best = 0;
         } else {
             since_best += 1;
         }
-        if worst <= config.tolerance
-            || stop_reason == StopReason::MaxIter
-            || since_best >= STALL_ROUNDS
-        {
+        if w <= config.tolerance {
+            stop_reason = StopReason::Tolerance;
             break;
         }
-        // The next round starts from the best one, with its correction, halved after every
-        // round that did not improve on it (the corrections carry the map's noise too).
-        let Some(b) = best.as_ref() else { break };
-        let step = 0.5f64.powi(since_best as i32);
-        positions.clone_from(&b.positions);
-        effective = b
-            .effective
-            .iter()
-            .zip(&b.errors)
-            .map(|(v, e)| {
-                v / (1.0 + e)
-                    .clamp(MIN_CORRECTION, 1.0 / MIN_CORRECTION)
-                    .powf(step)
-            })
-            .collect();
+        if since_best >= STALL_ROUNDS {
+            stop_reason = StopReason::Stationary;
+            notes.push(format!(
+                "the rounds stopped improving: {STALL_ROUNDS} rounds in a row without a lower \
+                 worst error"
+            ));
+            break;
+        }
+        if rounds >= rounds_cap {
+            notes.push(format!("the round limit ({rounds_cap}) was reached"));
+            break;
+        }
+        if let Some(limit) = config.time_limit
+            && t0.elapsed().as_secs_f64() >= limit
+        {
+            notes.push(format!("the time limit ({limit} s) was reached"));
+            break;
+        }
+        if std::env::var_os("DEMKIT_CARTO_DEBUG").is_some() {
+            let mut idx: Vec<usize> = (0..errors.len()).collect();
+            idx.retain(|&i| super::counts(targets[i]));
+            idx.sort_by(|&a, &b| errors[b].abs().total_cmp(&errors[a].abs()));
+            let top: Vec<String> = idx[..3.min(idx.len())]
+                .iter()
+                .map(|&i| format!("{} {:.4}", labels[i], errors[i]))
+                .collect();
+            eprintln!(
+                "round {rounds} worst {w:.5} t={:.2} pts={} {top:?}",
+                t0.elapsed().as_secs_f64(),
+                points.len()
+            );
+        }
+        let blur = BLUR * 0.5f64.powi(rounds as i32);
+        let before = region_areas(&points, &rings);
+        let (s, g) = round(
+            &mut points,
+            &mut rings,
+            &values,
+            config.grid,
+            max_steps,
+            blur,
+            &gain,
+        );
+        update_gain(&mut gain, &targets, &before, &region_areas(&points, &rings));
+        steps += s;
+        rounds += 1;
+        grid_used = g;
     }
-    let Some(BestRound {
-        coordinates,
-        positions,
-        ..
-    }) = best
-    else {
-        return Err(crate::Error::Numerical("the cartogram ran no round".into()));
+    let Some((_, mut points, rings)) = best else {
+        return Err(Error::Numerical("the cartogram ran no round".into()));
     };
-    let flipped = count_nonpositive(&positions, &mesh.faces);
-    finish(
-        set,
-        coordinates,
-        super::Run {
-            iterations,
-            rounds,
-            stop_reason,
-            mesh_vertices: mesh.points.len(),
-            mesh_faces: mesh.faces.len(),
-            flipped_triangles: flipped,
-            notes,
-            time_s: t0.elapsed().as_secs_f64(),
-        },
-        path,
-    )
-}
-
-/// What the mesh's size owes to the cap, when it does: fewer faces per polygon than asked, or
-/// more faces than the cap because the polygons need them.
-fn mesh_note(
-    set: &super::regions::RegionSet,
-    config: &Config,
-    mesh: &RegionMesh,
-) -> Option<String> {
-    let polygons: usize = set.regions.iter().map(|r| r.polygons.len()).sum();
-    let faces = mesh.faces.len();
-    if faces as f64 > super::triangulate::CAP_SLACK * config.max_faces as f64 {
-        Some(format!(
-            "the mesh has {faces} faces, more than the cap of {}: {polygons} polygons need \
-             about {:.0} triangles each at least",
-            config.max_faces, mesh.plan.polygon_faces
-        ))
-    } else if mesh.plan.polygon_faces < config.polygon_faces as f64 {
-        Some(format!(
-            "{polygons} polygons: about {:.0} triangles each, to keep the mesh within the cap \
-             of {} faces (about)",
-            mesh.plan.polygon_faces, config.max_faces
-        ))
-    } else {
-        None
-    }
-}
-
-/// Area centroid and total area of the region faces (the sea left out).
-fn region_centroid(p: &[[f64; 3]], mesh: &RegionMesh, areas: &[f64]) -> ([f64; 2], f64) {
-    let (mut cx, mut cy, mut s) = (0.0, 0.0, 0.0);
-    for ((f, r), &a) in mesh.faces.iter().zip(&mesh.face_region).zip(areas) {
-        if r.is_some() {
-            for &v in f {
-                cx += a * p[v as usize][0] / 3.0;
-                cy += a * p[v as usize][1] / 3.0;
-            }
-            s += a;
+    let (a, c) = centroid(&points, &rings);
+    if a > 0.0 && a_in > 0.0 {
+        let k = (a_in / a).sqrt();
+        for p in points.iter_mut() {
+            *p = [c_in[0] + k * (p[0] - c[0]), c_in[1] + k * (p[1] - c[1])];
         }
     }
-    ([cx / s, cy / s], s)
-}
-
-/// Every region's rings through the mapped mesh: each ring vertex and the mesh vertices on its
-/// edges, at their mapped positions (the image of the ring under the piecewise-linear map).
-fn output_coordinates(
-    set: &super::regions::RegionSet,
-    mesh: &RegionMesh,
-    positions: &[[f64; 3]],
-) -> Vec<Vec<Polygon>> {
-    set.regions
+    let coordinates: Vec<Vec<Polygon>> = rings
         .iter()
-        .map(|r| {
-            r.polygons
+        .map(|polys| {
+            polys
                 .iter()
-                .map(|rings| {
-                    rings
-                        .iter()
-                        .map(|ring| {
-                            mesh.dense_ring(ring)
-                                .into_iter()
-                                .map(|v| [positions[v][0], positions[v][1]])
-                                .collect()
-                        })
+                .map(|p| {
+                    p.iter()
+                        .map(|ring| ring.iter().map(|&v| points[v]).collect())
                         .collect()
                 })
                 .collect()
         })
-        .collect()
+        .collect();
+    let run = super::Run {
+        iterations: steps,
+        rounds,
+        stop_reason,
+        mesh_vertices: points.len(),
+        mesh_faces: 0,
+        grid: grid_used,
+        flipped_triangles: 0,
+        notes,
+        time_s: t0.elapsed().as_secs_f64(),
+    };
+    Ok(Flowed {
+        points,
+        rings,
+        coordinates,
+        run,
+    })
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn sea_gets_the_mean_density_and_regions_their_values() {
-        let pop = face_population(
-            &[6.0, 2.0],
-            &[Some(0), Some(0), Some(1), None],
-            &[1.0, 2.0, 1.0, 4.0],
-        );
-        // Region 0: 6 over area 3 → 2 and 4; region 1: 2; sea: (8 / 4) × 4.
-        assert_eq!(pop, vec![2.0, 4.0, 2.0, 8.0]);
-    }
+/// Computes the planar cartogram of `set` (coordinates in the plane) with [`flow`], in the
+/// set's normalised frame, and takes the result back to input units.
+///
+/// Errors: a grid side refused by [`check_grid`]; the errors of [`finish`].
+pub fn run(
+    set: &RegionSet,
+    config: &Config,
+    path: &str,
+    progress: ProgressFn,
+) -> Result<Cartogram> {
+    let values: Vec<f64> = set.regions.iter().map(|r| r.value).collect();
+    let labels: Vec<String> = set.regions.iter().map(|r| r.label.clone()).collect();
+    let rings: Vec<IndexRings> = set.regions.iter().map(|r| r.polygons.clone()).collect();
+    let f = flow(
+        set.points.clone(),
+        rings,
+        &values,
+        &labels,
+        config,
+        progress,
+    )?;
+    finish(set, f.coordinates, f.run, path)
 }

@@ -35,6 +35,9 @@ pub struct RegionSet {
     pub regions: Vec<Region>,
     /// The similarity from input coordinates to those of [`RegionSet::points`].
     pub frame: Frame,
+    /// What was cleaned on reading, one line per region: degenerate parts dropped, zero-width
+    /// spikes removed.
+    pub warnings: Vec<String>,
 }
 
 /// A similarity of the plane that takes input coordinates to a normalised frame:
@@ -174,8 +177,12 @@ impl RegionSet {
         let tol = SNAP * diag;
         let mut snap = Snapper::new(tol);
         let mut regions = Vec::with_capacity(raw.len());
+        let mut warnings = Vec::new();
         for r in raw {
             let mut polygons = Vec::with_capacity(r.polygons.len());
+            let mut dropped: Vec<String> = Vec::new();
+            let mut first_refusal: Option<String> = None;
+            let mut spikes = 0;
             for (k, rings) in r.polygons.iter().enumerate() {
                 let mut out = Vec::with_capacity(rings.len());
                 for (j, ring) in rings.iter().enumerate() {
@@ -189,25 +196,54 @@ impl RegionSet {
                     while idx.len() > 1 && idx.first() == idx.last() {
                         idx.pop();
                     }
+                    let ring_spikes = remove_spikes(&mut idx, &snap.points, tol);
+                    spikes += ring_spikes;
                     let pts: Vec<[f64; 2]> = idx.iter().map(|&v| snap.points[v]).collect();
                     let mut distinct = idx.clone();
                     distinct.sort_unstable();
                     distinct.dedup();
-                    if distinct.len() < 3 {
-                        return Err(err(format!(
-                            "{}: ring {j} of polygon {k} has fewer than 3 distinct points",
+                    let problem = if distinct.len() < 3 && ring_spikes > 0 {
+                        // A ring that was all spike: a line.
+                        Some("has zero area")
+                    } else if distinct.len() < 3 {
+                        Some("has fewer than 3 distinct points")
+                    } else if ring_area(&pts).abs() <= tol * diag {
+                        Some("has zero area")
+                    } else {
+                        None
+                    };
+                    if let Some(problem) = problem {
+                        first_refusal.get_or_insert(format!(
+                            "{}: ring {j} of polygon {k} {problem}",
                             r.label
-                        )));
-                    }
-                    if ring_area(&pts).abs() <= tol * diag {
-                        return Err(err(format!(
-                            "{}: ring {j} of polygon {k} has zero area",
-                            r.label
-                        )));
+                        ));
+                        if j == 0 {
+                            dropped.push(format!("polygon {k} ({problem})"));
+                            out.clear();
+                            break;
+                        }
+                        dropped.push(format!("ring {j} of polygon {k} ({problem})"));
+                        continue;
                     }
                     out.push(idx);
                 }
-                polygons.push(out);
+                if !out.is_empty() {
+                    polygons.push(out);
+                }
+            }
+            if polygons.is_empty() {
+                return Err(err(
+                    first_refusal.unwrap_or_else(|| format!("{}: has no polygon", r.label))
+                ));
+            }
+            if !dropped.is_empty() {
+                warnings.push(format!("{}: dropped {}", r.label, dropped.join(", ")));
+            }
+            if spikes > 0 {
+                warnings.push(format!(
+                    "{}: removed {spikes} zero-width spike vertices",
+                    r.label
+                ));
             }
             regions.push(Region {
                 label: r.label.clone(),
@@ -220,6 +256,7 @@ impl RegionSet {
             points: snap.points,
             regions,
             frame,
+            warnings,
         };
         set.split_t_junctions(tol);
         set.check_crossings(path)?;
@@ -359,7 +396,7 @@ impl RegionSet {
     }
 
     /// Refuses edges that cross each other properly (they share no endpoint).
-    fn check_crossings(&self, path: &str) -> Result<()> {
+    fn check_crossings(&mut self, path: &str) -> Result<()> {
         let edges = self.edges();
         let pts = &self.points;
         let mids: Vec<[f64; 2]> = edges
@@ -372,11 +409,13 @@ impl RegionSet {
             })
             .collect();
         let grid = SegmentGrid::new(pts, &edges);
+        // Pairs of regions whose edges cross, with where they first do.
+        let mut pairs: Vec<((usize, usize), [f64; 2])> = Vec::new();
         for (i, ([a, b], owners)) in edges.iter().enumerate() {
             let (pa, pb) = (pts[*a], pts[*b]);
-            let mut found = None;
+            let mut found = Vec::new();
             grid.visit_box(min2(pa, pb, 0.0), max2(pa, pb, 0.0), |j| {
-                if j <= i || found.is_some() {
+                if j <= i {
                     return;
                 }
                 let ([c, d], _) = &edges[j];
@@ -389,30 +428,81 @@ impl RegionSet {
                 let o3 = orient(pc, pd, pa);
                 let o4 = orient(pc, pd, pb);
                 if o1 * o2 < 0.0 && o3 * o4 < 0.0 {
-                    found = Some(j);
+                    found.push(j);
                 }
             });
-            if let Some(j) = found {
+            for j in found {
                 let other = &edges[j].1;
                 let at = mids[i];
                 let r1 = owners[0];
-                let msg = match other.iter().find(|&&r| r != r1) {
-                    Some(&r2) if !owners.contains(&r2) => format!(
-                        "{} overlaps {}: their edges cross near ({}, {})",
-                        self.regions[r1].label, self.regions[r2].label, at[0], at[1]
-                    ),
-                    _ => format!(
-                        "{}: its boundary crosses itself near ({}, {})",
-                        self.regions[r1].label, at[0], at[1]
-                    ),
-                };
-                return Err(Error::Format {
-                    path: path.to_string(),
-                    msg,
-                });
+                match other.iter().find(|&&r| r != r1) {
+                    Some(&r2) if !owners.contains(&r2) => {
+                        let key = (r1.min(r2), r1.max(r2));
+                        if !pairs.iter().any(|(k, _)| *k == key) {
+                            pairs.push((key, at));
+                        }
+                    }
+                    _ => {
+                        return Err(Error::Format {
+                            path: path.to_string(),
+                            msg: format!(
+                                "{}: its boundary crosses itself near ({}, {})",
+                                self.regions[r1].label, at[0], at[1]
+                            ),
+                        });
+                    }
+                }
             }
         }
+        let (lo, hi) = bbox(pts.iter().copied());
+        let limit = OVERLAP_DEPTH * (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        for ((r1, r2), at) in pairs {
+            let depth = self.overlap_depth(r1, r2).max(self.overlap_depth(r2, r1));
+            let (l1, l2) = (&self.regions[r1].label, &self.regions[r2].label);
+            if depth > limit {
+                return Err(Error::Format {
+                    path: path.to_string(),
+                    msg: format!(
+                        "{l1} overlaps {l2}: their edges cross near ({}, {})",
+                        at[0], at[1]
+                    ),
+                });
+            }
+            self.warnings.push(format!(
+                "{l1} and {l2}: their borders overlap slightly (by up to {:.2e} of the map's \
+                 diagonal); left as they are",
+                depth / (limit / OVERLAP_DEPTH)
+            ));
+        }
         Ok(())
+    }
+
+    /// How far the vertices of region `a` reach inside region `b`: the largest distance from
+    /// a vertex of `a` inside `b` to `b`'s boundary (0 when none is inside).
+    fn overlap_depth(&self, a: usize, b: usize) -> f64 {
+        let pts = &self.points;
+        let rings_b: Vec<Vec<[f64; 2]>> = self.regions[b]
+            .polygons
+            .iter()
+            .flatten()
+            .map(|r| r.iter().map(|&v| pts[v]).collect())
+            .collect();
+        let mut depth = 0.0f64;
+        for &v in self.regions[a].polygons.iter().flatten().flatten() {
+            let p = pts[v];
+            let inside = rings_b.iter().filter(|r| inside_ring(p, r)).count() % 2 == 1;
+            if !inside {
+                continue;
+            }
+            let mut d = f64::INFINITY;
+            for r in &rings_b {
+                for i in 0..r.len() {
+                    d = d.min(segment_distance(p, r[i], r[(i + 1) % r.len()]));
+                }
+            }
+            depth = depth.max(d);
+        }
+        depth
     }
 }
 
@@ -435,6 +525,69 @@ fn inside_ring(p: [f64; 2], ring: &[[f64; 2]]) -> bool {
 /// Orientation of `c` with respect to the line `a → b` (positive: left).
 pub(crate) fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
     (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+}
+
+/// Regions whose borders cross are read when no vertex of one lies deeper inside the other
+/// than this fraction of the map's diagonal (the slivers of unshared borders), and refused as
+/// overlapping otherwise.
+const OVERLAP_DEPTH: f64 = 2e-3;
+
+/// The distance from `p` to the segment `a`–`b`.
+fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let len2 = d[0] * d[0] + d[1] * d[1];
+    let t = if len2 > 0.0 {
+        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p[0] - a[0] - t * d[0]).hypot(p[1] - a[1] - t * d[1])
+}
+
+/// A ring turning back by an angle within this sine of 180° has a zero-width spike there.
+const SPIKE_SINE: f64 = 1e-3;
+
+/// Removes from a closed ring (no closing repetition) every vertex where the ring turns back
+/// on itself along a line (a zero-width spike: the vertex lies within `tol` of the line
+/// through its neighbours, or the turn is within [`SPIKE_SINE`] of 180°, and the ring
+/// reverses there), and a vertex whose neighbours are the
+/// same; repeats until none is left. Returns how many vertices were removed.
+fn remove_spikes(ring: &mut Vec<usize>, points: &[[f64; 2]], tol: f64) -> usize {
+    let mut removed = 0;
+    let mut changed = true;
+    while changed && ring.len() >= 3 {
+        changed = false;
+        let mut i = 0;
+        while i < ring.len() && ring.len() >= 3 {
+            let n = ring.len();
+            let (a, b, c) = (ring[(i + n - 1) % n], ring[i], ring[(i + 1) % n]);
+            let (pa, pb, pc) = (points[a], points[b], points[c]);
+            let u = [pb[0] - pa[0], pb[1] - pa[1]];
+            let w = [pc[0] - pb[0], pc[1] - pb[1]];
+            let cross = u[0] * w[1] - u[1] * w[0];
+            let dot = u[0] * w[0] + u[1] * w[1];
+            let (lu, lw) = (u[0].hypot(u[1]), w[0].hypot(w[1]));
+            let thin = cross.abs() <= (tol * lu.max(lw)).max(SPIKE_SINE * lu * lw);
+            if a == c || (dot < 0.0 && thin) {
+                ring.remove(i);
+                removed += 1;
+                changed = true;
+                // The neighbours may now repeat.
+                let n = ring.len();
+                if n >= 2 {
+                    let prev = (i + n - 1) % n;
+                    if ring[prev] == ring[i % n] {
+                        ring.remove(i % n);
+                        removed += 1;
+                    }
+                }
+                i = i.saturating_sub(1);
+            } else {
+                i += 1;
+            }
+        }
+    }
+    removed
 }
 
 pub(super) fn min2(a: [f64; 2], b: [f64; 2], pad: f64) -> [f64; 2] {
