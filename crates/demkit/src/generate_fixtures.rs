@@ -1,5 +1,16 @@
 //! Small meshes for unit tests of the operators (test-only).
 
+use crate::TriMesh;
+
+/// The unit square 0(0,0) 1(1,0) 2(1,1) 3(0,1) in the plane z = 0, as two counter-clockwise
+/// triangles.
+pub fn unit_square() -> TriMesh {
+    TriMesh::new(
+        vec![[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]],
+        vec![[0, 1, 2], [0, 2, 3]],
+    )
+}
+
 /// A jittered planar grid on [0,1]² with `n × n` squares: positions (z = 0), counter-clockwise
 /// faces, and a boundary flag per vertex. Jitter moves interior vertices by up to `jitter / n`
 /// deterministically, keeping every triangle positively oriented for `jitter < 0.25`.

@@ -254,17 +254,7 @@ pub fn compute(
 mod tests {
     use super::*;
 
-    fn two_triangles() -> TriMesh {
-        TriMesh::new(
-            vec![
-                [0.0, 0.0, 0.0],
-                [1.0, 0.0, 0.0],
-                [1.0, 1.0, 0.0],
-                [0.0, 1.0, 0.0],
-            ],
-            vec![[0, 1, 2], [0, 2, 3]],
-        )
-    }
+    use crate::generate_fixtures::unit_square as two_triangles;
 
     #[test]
     fn identity_map_with_area_population_is_perfect() {

@@ -301,12 +301,7 @@ mod tests {
     use super::test_util::*;
     use super::*;
 
-    fn square() -> TriMesh {
-        TriMesh::new(
-            vec![[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]],
-            vec![[0, 1, 2], [0, 2, 3]],
-        )
-    }
+    use crate::generate_fixtures::unit_square as square;
 
     #[test]
     fn lines_strip_line_endings() {

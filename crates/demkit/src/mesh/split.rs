@@ -129,17 +129,7 @@ mod tests {
     use super::*;
     use crate::geometry::signed_area_2d;
 
-    fn square() -> TriMesh {
-        TriMesh::new(
-            vec![
-                [0.0, 0.0, 0.0],
-                [1.0, 0.0, 0.0],
-                [1.0, 1.0, 0.0],
-                [0.0, 1.0, 0.0],
-            ],
-            vec![[0, 1, 2], [0, 2, 3]],
-        )
-    }
+    use crate::generate_fixtures::unit_square as square;
 
     fn assert_positive(mesh: &TriMesh) {
         for f in &mesh.faces {

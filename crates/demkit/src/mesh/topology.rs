@@ -360,13 +360,7 @@ mod tests {
         TriMesh::new(positions, faces)
     }
 
-    /// Unit square 0(0,0) 1(1,0) 2(1,1) 3(0,1), two counter-clockwise triangles.
-    fn square() -> TriMesh {
-        mesh(
-            vec![[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]],
-            vec![[0, 1, 2], [0, 2, 3]],
-        )
-    }
+    use crate::generate_fixtures::unit_square as square;
 
     fn tetrahedron() -> TriMesh {
         mesh(

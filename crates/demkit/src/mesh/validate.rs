@@ -361,12 +361,7 @@ fn check_fans(n: usize, faces: &[[u32; 3]], errors: &mut Vec<String>) {
 mod tests {
     use super::*;
 
-    fn square() -> TriMesh {
-        TriMesh::new(
-            vec![[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]],
-            vec![[0, 1, 2], [0, 2, 3]],
-        )
-    }
+    use crate::generate_fixtures::unit_square as square;
 
     fn tetrahedron() -> TriMesh {
         TriMesh::new(
