@@ -93,7 +93,7 @@ const MIN_WANTED: f64 = 0.02;
 /// round moves a region's share only part of the way to its target when the region spans few
 /// cells, or sits between much denser neighbours; the next round asks for correspondingly
 /// more (the geometric mean of its gain and the inverse of the fraction achieved, within
-/// [1, [`MAX_GAIN`]]). At the target the
+/// [1, [`MAX_GAIN`]]; back to 1 after a round that went past the target). At the target the
 /// contrast is 1 whatever the gain, so the fixed point is the cartogram's.
 fn update_gain(gain: &mut [f64], targets: &[f64], before: &[f64], after: &[f64]) {
     let (tb, ta): (f64, f64) = (before.iter().sum(), after.iter().sum());
@@ -105,6 +105,11 @@ fn update_gain(gain: &mut [f64], targets: &[f64], before: &[f64], after: &[f64])
         let wanted = (targets[i] / sb).ln();
         let achieved = (sa / sb).ln();
         if wanted.abs() < MIN_WANTED {
+            gain[i] = 1.0;
+            continue;
+        }
+        if (targets[i] / sa).ln() * wanted < 0.0 {
+            // Past the target: back to no gain.
             gain[i] = 1.0;
             continue;
         }
