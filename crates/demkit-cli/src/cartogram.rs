@@ -93,6 +93,8 @@ pub fn run(a: &CartogramArgs) -> Result<u8, Failure> {
     };
     bar.finish();
     let mut c = result?;
+    // Notes of the run proper; the reading's warnings and the verdict are printed as such.
+    let printed_from = c.run.notes.len();
     for w in &set.warnings {
         if !a.quiet {
             eprintln!("warning: {w}");
@@ -117,6 +119,9 @@ pub fn run(a: &CartogramArgs) -> Result<u8, Failure> {
             100.0 * c.max_error,
             100.0 * config.tolerance
         ));
+        if !a.quiet {
+            eprintln!("warning: {}", c.run.notes[c.run.notes.len() - 1]);
+        }
     }
     let out = geojson::replace_coordinates(&fc, &c.coordinates);
     write(&a.out, geojson::to_text(out))?;
@@ -135,7 +140,7 @@ pub fn run(a: &CartogramArgs) -> Result<u8, Failure> {
         crate::report::write_json(path, &report)?;
     }
     if !a.quiet {
-        for n in &c.run.notes {
+        for n in &c.run.notes[..printed_from] {
             eprintln!("note: {n}");
         }
         eprintln!(

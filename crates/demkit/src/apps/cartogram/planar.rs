@@ -177,11 +177,7 @@ fn round(
         .collect();
     let rho = raster::density(points, rings, &density, sea, nx, ny);
     let diffusion = Diffusion::new(&rho, nx, ny);
-    let ti = Instant::now();
     let integration = advect(&diffusion, nx, ny, points, max_steps, blur);
-    if std::env::var_os("DEMKIT_CARTO_DEBUG").is_some() {
-        eprintln!("  {integration:?} {:.2}s", ti.elapsed().as_secs_f64());
-    }
     for p in points.iter_mut() {
         *p = [origin[0] + p[0] * cell, origin[1] + p[1] * cell];
     }
@@ -214,7 +210,6 @@ pub fn flow(
     points: Vec<[f64; 2]>,
     rings: Vec<IndexRings>,
     values: &[f64],
-    labels: &[String],
     config: &Config,
     progress: ProgressFn,
 ) -> Result<Flowed> {
@@ -268,20 +263,6 @@ pub fn flow(
         {
             notes.push(format!("the time limit ({limit} s) was reached"));
             break;
-        }
-        if std::env::var_os("DEMKIT_CARTO_DEBUG").is_some() {
-            let mut idx: Vec<usize> = (0..errors.len()).collect();
-            idx.retain(|&i| super::counts(targets[i]));
-            idx.sort_by(|&a, &b| errors[b].abs().total_cmp(&errors[a].abs()));
-            let top: Vec<String> = idx[..3.min(idx.len())]
-                .iter()
-                .map(|&i| format!("{} {:.4}", labels[i], errors[i]))
-                .collect();
-            eprintln!(
-                "round {rounds} worst {w:.5} t={:.2} pts={} {top:?}",
-                t0.elapsed().as_secs_f64(),
-                points.len()
-            );
         }
         let blur = BLUR * 0.5f64.powi(rounds as i32);
         let before = region_areas(&points, &rings);
@@ -352,15 +333,7 @@ pub fn run(
     progress: ProgressFn,
 ) -> Result<Cartogram> {
     let values: Vec<f64> = set.regions.iter().map(|r| r.value).collect();
-    let labels: Vec<String> = set.regions.iter().map(|r| r.label.clone()).collect();
     let rings: Vec<IndexRings> = set.regions.iter().map(|r| r.polygons.clone()).collect();
-    let f = flow(
-        set.points.clone(),
-        rings,
-        &values,
-        &labels,
-        config,
-        progress,
-    )?;
+    let f = flow(set.points.clone(), rings, &values, config, progress)?;
     finish(set, f.coordinates, f.run, path)
 }

@@ -41,10 +41,9 @@ pub fn run(
 ) -> Result<Cartogram> {
     let points: Vec<[f64; 2]> = set.input_points().into_iter().map(project).collect();
     let values: Vec<f64> = set.regions.iter().map(|r| r.value).collect();
-    let labels: Vec<String> = set.regions.iter().map(|r| r.label.clone()).collect();
     let rings: Vec<IndexRings> = set.regions.iter().map(|r| r.polygons.clone()).collect();
     let in_areas = super::planar::region_areas(&points, &rings);
-    let f = flow(points, rings, &values, &labels, config, progress)?;
+    let f = flow(points, rings, &values, config, progress)?;
     let out_areas = super::planar::region_areas(&f.points, &f.rings);
     let coordinates: Vec<Vec<Polygon>> = f
         .coordinates
