@@ -43,6 +43,7 @@ pub fn advect(
     let mut dt = FOLD_MARGIN / v1.lipschitz.max(1e-12);
     let mut steps = 0;
     let mut predicted = vec![[0.0; 2]; points.len()];
+    let mut corrected = vec![[0.0; 2]; points.len()];
     let mut start: Vec<[f64; 2]> = points.par_iter().map(|&p| v1.at(p)).collect();
     let clamp = |p: [f64; 2]| [p[0].clamp(0.0, nx as f64), p[1].clamp(0.0, ny as f64)];
     while t < t_end && steps < max_steps {
@@ -54,17 +55,19 @@ pub fn advect(
             .for_each(|((q, p), v)| *q = clamp([p[0] + dt * v[0], p[1] + dt * v[1]]));
         let v2: Velocity = diffusion.velocity(&diffusion.density(t + dt));
         evaluations += 1;
-        let err = points
-            .par_iter()
-            .zip(predicted.par_iter())
-            .zip(start.par_iter())
-            .map(|((p, q), a)| {
+        // The corrector, kept for the step if it is accepted, and its gap to the predictor.
+        let err = corrected
+            .par_iter_mut()
+            .zip(points.par_iter())
+            .zip(predicted.par_iter().zip(start.par_iter()))
+            .map(|((c, p), (q, a))| {
                 let b = v2.at(*q);
-                let c = [
+                let u = [
                     p[0] + 0.5 * dt * (a[0] + b[0]),
                     p[1] + 0.5 * dt * (a[1] + b[1]),
                 ];
-                (c[0] - q[0]).abs().max((c[1] - q[1]).abs())
+                *c = clamp(u);
+                (u[0] - q[0]).abs().max((u[1] - q[1]).abs())
             })
             .reduce(|| 0.0, f64::max);
         let folds = dt * v2.lipschitz > FOLD_MARGIN;
@@ -78,21 +81,14 @@ pub fn advect(
             dt *= if folds { 0.5 } else { factor.clamp(0.2, 0.5) };
             continue;
         }
-        points
-            .par_iter_mut()
-            .zip(predicted.par_iter())
-            .zip(start.par_iter())
-            .for_each(|((p, q), a)| {
-                let b = v2.at(*q);
-                *p = clamp([
-                    p[0] + 0.5 * dt * (a[0] + b[0]),
-                    p[1] + 0.5 * dt * (a[1] + b[1]),
-                ]);
-            });
+        points.copy_from_slice(&corrected);
         t += dt;
         steps += 1;
         v1 = v2;
-        start = points.par_iter().map(|&p| v1.at(p)).collect();
+        start
+            .par_iter_mut()
+            .zip(points.par_iter())
+            .for_each(|(s, &p)| *s = v1.at(p));
         dt *= factor.clamp(1.0, 2.0);
     }
     Integration {
