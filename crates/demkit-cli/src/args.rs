@@ -175,31 +175,89 @@ pub struct RemeshArgs {
 pub struct CartogramArgs {
     /// The regions: a GeoJSON FeatureCollection of polygons and multipolygons.
     pub regions: PathBuf,
-    /// The numeric feature property that sets each region's area.
-    #[arg(long)]
-    pub value: String,
+    /// The numeric feature property that sets each region's area; with --values, the CSV
+    /// column holding the values (default: the CSV's only column besides --key). A missing
+    /// value (no property, null, no CSV row) gets the mean density of the others (value per
+    /// area) times the region's area; a value of 0 gets 0.2 times the smallest positive value;
+    /// a warning names those regions. Negative values are refused.
+    #[arg(long, required_unless_present = "values")]
+    pub value: Option<String>,
+    /// Read the values from this CSV file (first row a header) instead of a feature property,
+    /// joined to the features on --key.
+    #[arg(long, value_name = "FILE.csv", requires = "key")]
+    pub values: Option<PathBuf>,
+    /// The join key of --values: a CSV column and a feature property holding the same names
+    /// or codes.
+    #[arg(long, value_name = "NAME", requires = "values")]
+    pub key: Option<String>,
     /// Output GeoJSON: the same features and properties, transformed coordinates.
     #[arg(long)]
     pub out: PathBuf,
-    /// Also draw the cartogram as SVG.
+    /// Also draw the cartogram as SVG, regions coloured as --color says, with a legend.
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// Also draw the cartogram as a PNG picture, coloured as --color says, with a legend.
+    #[arg(long)]
+    pub png: Option<PathBuf>,
+    /// What colours the regions of --svg and --png: `density` (the value per input area, on a
+    /// logarithmic scale) or `error` (each region's share error, blue too small, red too
+    /// large).
+    #[arg(long, value_enum, default_value = "density")]
+    pub color: CartogramColor,
+    /// The PNG picture's longer side in pixels (64 to 4096).
+    #[arg(long, default_value_t = 1024, allow_negative_numbers = true)]
+    pub size: i64,
     /// Write a JSON report here.
     #[arg(long)]
     pub report: Option<PathBuf>,
-    /// Coordinates are longitude/latitude degrees: compute on the globe (SDEM).
-    #[arg(long)]
+    /// Coordinates are longitude/latitude degrees: compute on the globe (the flow in an
+    /// equal-area projection) and write degrees.
+    #[arg(long, conflicts_with = "project")]
     pub sphere: bool,
-    /// Iteration limit (default: the method's own).
+    /// Coordinates are longitude/latitude degrees: project them to the Equal Earth projection
+    /// (km) and compute the planar cartogram there; the output is in that projection unless
+    /// --output-lonlat.
+    #[arg(long)]
+    pub project: bool,
+    /// With --project, write the output back in longitude/latitude degrees.
+    #[arg(long, requires = "project")]
+    pub output_lonlat: bool,
+    /// The accuracy asked for: every region with at least 1e-4 of the total value within this
+    /// relative error of its share (exit 3 otherwise).
+    #[arg(
+        long,
+        value_name = "E",
+        default_value_t = 0.01,
+        allow_negative_numbers = true
+    )]
+    pub max_error: f64,
+    /// No further round starts after this many seconds (default: no limit).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub time_limit: Option<f64>,
+    /// The flow's grid: cells along the map's longer side, a power of two from 16 to 8192
+    /// (finer is more accurate for small regions and slower).
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 512,
+        allow_negative_numbers = true
+    )]
+    pub grid: usize,
+    /// Integration steps per round (default: the method's own).
     #[arg(long)]
     pub max_iter: Option<usize>,
-    /// Cap on the mesh's triangles: with many small regions each gets fewer (default 150000,
-    /// at most 5000000; more is finer and slower).
-    #[arg(long, value_name = "N")]
-    pub faces: Option<usize>,
     /// No progress bar and no warnings.
     #[arg(long)]
     pub quiet: bool,
+}
+
+/// `--color` of `demkit cartogram`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum CartogramColor {
+    /// The value per input area, logarithmic.
+    Density,
+    /// The share error of each region.
+    Error,
 }
 
 /// `demkit register A B --landmarks-a FA --landmarks-b FB --out OUT.obj`

@@ -5,6 +5,7 @@
 
 mod args;
 mod cartogram;
+mod cartogram_png;
 mod generate;
 mod info;
 mod map;

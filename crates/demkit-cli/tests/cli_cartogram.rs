@@ -185,6 +185,8 @@ fn key(p: [f64; 2]) -> (u64, u64) {
 struct Figures {
     median: f64,
     worst: f64,
+    /// Every region's share error |A_i/ΣA − v_i/Σv| / (v_i/Σv), signed.
+    share_errors: Vec<f64>,
     crossings: usize,
     contained: usize,
     boundary_loops: usize,
@@ -319,9 +321,21 @@ fn figures(input: &Value, output: &Value) -> Figures {
     let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
     let mut err: Vec<f64> = ratios.iter().map(|r| (r / mean - 1.0).abs()).collect();
     err.sort_by(f64::total_cmp);
+    // Share errors: ratio_i / (ΣA / Σv) − 1.
+    let values: Vec<f64> = fin
+        .iter()
+        .map(|f| f["properties"]["pop"].as_f64().unwrap())
+        .collect();
+    let area_total: f64 = ratios.iter().zip(&values).map(|(r, v)| r * v).sum();
+    let value_total: f64 = values.iter().sum();
+    let share_errors = ratios
+        .iter()
+        .map(|r| r / (area_total / value_total) - 1.0)
+        .collect();
     Figures {
         median: err[err.len() / 2],
         worst: err[err.len() - 1],
+        share_errors,
         crossings,
         contained,
         boundary_loops,
@@ -389,8 +403,18 @@ fn grid_with_a_hole_and_a_multipolygon_meets_the_acceptance_figures() {
     assert!(f.gap_area < 1e-9, "{f:?}");
     assert!(f.median <= 0.05 && f.worst <= 0.15, "{f:?}");
     assert_eq!(report["flipped_triangles"], 0);
-    assert!((report["ratio_error_worst"].as_f64().unwrap() - f.worst).abs() < 1e-9);
+    assert_eq!(report["invalid_polygons"], 0);
     assert_eq!(report["regions"].as_array().unwrap().len(), 24);
+    assert!(report.get("ratio_error_worst").is_none());
+    for (r, e) in report["regions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(&f.share_errors)
+    {
+        assert!((r["error"].as_f64().unwrap() - e).abs() < 1e-9, "{r} {e}");
+        assert!(r.get("ratio_error").is_none());
+    }
     let svg = s.read("out.svg");
     assert_eq!(svg.matches("<path").count(), 24);
 }
@@ -455,11 +479,6 @@ fn refusals_exit_2_naming_the_feature() {
         v["features"][k]["properties"]["pop"] = prop;
         v
     };
-    let mut missing = base.clone();
-    missing["features"][2]["properties"]
-        .as_object_mut()
-        .unwrap()
-        .remove("pop");
     let mut point = base.clone();
     point["features"][1]["geometry"] = json!({"type": "Point", "coordinates": [0.5, 0.5]});
     let mut bow = base.clone();
@@ -470,16 +489,14 @@ fn refusals_exit_2_naming_the_feature() {
         json!({"type": "Polygon", "coordinates": [ring(&square(0.5, 0.5, 1.0))]});
     let cases: Vec<(Value, &str)> = vec![
         (
-            with(1, json!(0)),
-            "feature 1 (name 'r0_1'): its value 'pop' = 0 is not positive",
+            with(1, json!(-3)),
+            "feature 1 (name 'r0_1'): its value 'pop' = -3 is negative",
         ),
-        (with(1, json!(-3)), "is not positive"),
         (
             with(2, json!("many")),
             "feature 2 (name 'r0_2'): its value 'pop' = \"many\" is not a number",
         ),
         (with(2, json!("NaN")), "is not finite"),
-        (missing, "feature 2 (name 'r0_2'): has no value 'pop'"),
         (point, "feature 1 (name 'r0_1'): its geometry is a Point"),
         (bow, "feature 3 (name 'r1_0'): its boundary crosses itself"),
         (overlap, "overlaps"),
@@ -605,9 +622,9 @@ fn four_hundred_squares_reach_their_shares_within_one_percent() {
     assert_eq!(report["flipped_triangles"], 0);
     let max = report["error_max"].as_f64().unwrap();
     assert!(max <= 0.01, "{max}");
-    let (median, worst) = (&report["ratio_error_median"], &report["ratio_error_worst"]);
-    assert!(median.as_f64().unwrap() < 0.02, "{median}");
-    assert!(worst.as_f64().unwrap() < 0.15, "{worst}");
+    let (median, worst) = median_and_worst_share_error(&report);
+    assert!(median < 0.02, "{median}");
+    assert!(worst < 0.15, "{worst}");
     check_time("400 squares", seconds, 20.0);
     let regions = report["regions"].as_array().unwrap();
     let target: f64 = regions
@@ -636,12 +653,10 @@ fn ten_thousand_regions_finish_within_a_minute() {
     let input = many_squares(100, 100);
     let (report, seconds) = timed_cartogram(&s, &input, &[]);
     let faces = report["mesh"]["faces"].as_u64().unwrap();
+    let (median, worst) = median_and_worst_share_error(&report);
     eprintln!(
-        "{faces} faces, {seconds:.1} s, {} iterations in {} rounds, median {} worst {}",
-        report["iterations"],
-        report["rounds"],
-        report["ratio_error_median"],
-        report["ratio_error_worst"]
+        "{faces} faces, {seconds:.1} s, {} iterations in {} rounds, median {median} worst {worst}",
+        report["iterations"], report["rounds"],
     );
     check_time("10 000 squares", seconds, 60.0);
     assert_eq!(faces, 0, "the flow has no mesh");
@@ -649,33 +664,51 @@ fn ten_thousand_regions_finish_within_a_minute() {
     assert!(report["error_max"].as_f64().unwrap() < 0.3);
     assert_eq!(report["flipped_triangles"], 0);
     assert_eq!(report["regions"].as_array().unwrap().len(), 10_000);
-    let (median, worst) = (&report["ratio_error_median"], &report["ratio_error_worst"]);
-    assert!(median.as_f64().unwrap() < 0.05, "{median}");
-    assert!(worst.as_f64().unwrap() < 0.3, "{worst}");
+    assert!(median < 0.05, "{median}");
+    assert!(worst < 0.3, "{worst}");
+}
+
+/// The median and largest |share error| over all regions of a report.
+fn median_and_worst_share_error(report: &Value) -> (f64, f64) {
+    let mut e: Vec<f64> = report["regions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["error"].as_f64().unwrap().abs())
+        .collect();
+    e.sort_by(f64::total_cmp);
+    (e[e.len() / 2], e[e.len() - 1])
 }
 
 #[test]
-fn a_mesh_beyond_memory_is_refused_up_front_with_the_estimate() {
-    let s = Scratch::new("carto_huge");
+fn bad_controls_are_refused_up_front_naming_the_option() {
+    let s = Scratch::new("carto_controls");
     s.write("g.geojson", grid(3).to_string());
-    let args = |faces: &'static str| {
-        vec![
+    let run = |extra: &[&str]| {
+        let mut args = vec![
             "cartogram",
             "g.geojson",
             "--value",
             "pop",
             "--out",
             "o.geojson",
-            "--faces",
-            faces,
-        ]
+        ];
+        args.extend_from_slice(extra);
+        s.run(&args)
     };
     let t0 = std::time::Instant::now();
-    s.run(&args("1000000000"))
-        .input_error_naming(&["--faces 1000000000", "GB", "at most 5000000"]);
+    run(&["--grid", "100"]).input_error_naming(&["--grid", "power of two", "got 100"]);
+    run(&["--grid", "8"]).input_error_naming(&["--grid", "got 8"]);
+    run(&["--grid", "16384"]).input_error_naming(&["--grid", "got 16384"]);
+    run(&["--grid", "-4"]).input_error_naming(&["--grid"]);
+    run(&["--max-error", "0"]).input_error_naming(&["--max-error", "got 0"]);
+    run(&["--max-error", "-0.1"]).input_error_naming(&["--max-error"]);
+    run(&["--max-error", "NaN"]).input_error_naming(&["--max-error"]);
+    run(&["--time-limit", "-1"]).input_error_naming(&["--time-limit", "got -1"]);
+    run(&["--time-limit", "inf"]).input_error_naming(&["--time-limit"]);
+    // The mesh of the former engine is gone, and its option with it.
+    run(&["--faces", "20000"]).input_error_naming(&["--faces"]);
     assert!(t0.elapsed().as_secs_f64() < 5.0, "refused before any work");
-    s.run(&args("10"))
-        .input_error_naming(&["--faces", "at least 1000"]);
     assert!(!s.path("o.geojson").exists());
 }
 
@@ -716,8 +749,15 @@ fn scaled_grid_works(k: f64, label: &str) {
         "{f:?}"
     );
     assert!(f.median <= 0.05 && f.worst <= 0.15, "{f:?}");
-    let worst = report["ratio_error_worst"].as_f64().unwrap();
-    assert!((worst - f.worst).abs() < 1e-6, "{worst} vs {f:?}");
+    for (r, e) in report["regions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(&f.share_errors)
+    {
+        let reported = r["error"].as_f64().unwrap();
+        assert!((reported - e).abs() < 1e-6, "{reported} vs {e}");
+    }
 }
 
 #[test]
@@ -728,4 +768,342 @@ fn squares_of_side_1e300_are_computed_like_unit_squares() {
 #[test]
 fn squares_of_side_1e_300_are_computed_like_unit_squares() {
     scaled_grid_works(1e-300, "carto_1e-300");
+}
+
+/// The 3×3 grid (8 features) with a join key `code` (`C0`…`C7`) on every feature.
+fn keyed_grid() -> Value {
+    let mut v = grid(3);
+    for (k, f) in v["features"].as_array_mut().unwrap().iter_mut().enumerate() {
+        f["properties"]["code"] = json!(format!("C{k}"));
+    }
+    v
+}
+
+/// Runs `demkit cartogram in.geojson ARGS --out o.geojson --report r.json --grid 64`.
+fn run_small(s: &Scratch, args: &[&str]) -> common::Output {
+    let mut all = vec!["cartogram", "in.geojson"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--out", "o.geojson", "--report", "r.json", "--grid", "64"]);
+    s.run(&all)
+}
+
+fn report_values(s: &Scratch) -> Vec<f64> {
+    let report: Value = serde_json::from_str(&s.read("r.json")).unwrap();
+    report["regions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["value"].as_f64().unwrap())
+        .collect()
+}
+
+#[test]
+fn values_from_a_csv_are_joined_on_a_key() {
+    let s = Scratch::new("carto_csv");
+    s.write("in.geojson", keyed_grid().to_string());
+    // Rows in another order than the features, one row for no feature.
+    let mut csv = String::from("code,people\n");
+    for k in (0..8).rev() {
+        csv.push_str(&format!("C{k},{}\n", 10 * (k + 1)));
+    }
+    csv.push_str("ZZ,5\n");
+    s.write("v.csv", &csv);
+    let out = run_small(&s, &["--values", "v.csv", "--key", "code"]);
+    out.assert_code(0);
+    let want: Vec<f64> = (0..8).map(|k| 10.0 * (k + 1) as f64).collect();
+    assert_eq!(report_values(&s), want);
+    assert!(
+        out.stderr
+            .contains("1 rows match no feature's 'code': 'ZZ'"),
+        "{}",
+        out.stderr
+    );
+    // With more columns, --value names the one to use.
+    let mut csv = String::from("name,code,gdp,people\n");
+    for k in 0..8 {
+        csv.push_str(&format!("n{k},C{k},1,{}\n", k + 1));
+    }
+    s.write("w.csv", &csv);
+    run_small(
+        &s,
+        &[
+            "--values", "w.csv", "--key", "code", "--value", "people", "--quiet",
+        ],
+    )
+    .assert_code(0);
+    assert_eq!(
+        report_values(&s),
+        (1..=8).map(f64::from).collect::<Vec<_>>()
+    );
+    // Refusals name the file and the line.
+    let cases: Vec<(&str, &[&str], Vec<&str>)> = vec![
+        (
+            "id,people\nC0,1\n",
+            &[],
+            vec!["bad.csv:1:", "no column 'code' (--key)"],
+        ),
+        (
+            "code,a,b\nC0,1,2\n",
+            &[],
+            vec!["bad.csv:1:", "2 columns besides 'code'", "--value"],
+        ),
+        (
+            "code,people\nC0,1\n",
+            &["--value", "pop"],
+            vec!["no column 'pop' (--value)"],
+        ),
+        (
+            "code,people\nC0,1\nC1,lots\n",
+            &[],
+            vec![
+                "bad.csv:3:",
+                "'C1': the value 'people' = 'lots' is not a number",
+            ],
+        ),
+        (
+            "code,people\nC0,1\nC1,2\nC0,3\n",
+            &[],
+            vec!["bad.csv:4:", "the key 'C0' is repeated (first on line 2)"],
+        ),
+        ("code,people\nC0,-1\n", &[], vec!["bad.csv:2:", "negative"]),
+    ];
+    for (text, extra, needles) in cases {
+        s.write("bad.csv", text);
+        let mut args = vec!["--values", "bad.csv", "--key", "code"];
+        args.extend_from_slice(extra);
+        run_small(&s, &args).input_error_naming(&needles);
+    }
+    // --key needs --values and the other way round; the CSV may not be an output.
+    run_small(&s, &["--value", "pop", "--key", "code"]).input_error_naming(&["--values"]);
+    run_small(&s, &["--values", "v.csv"]).input_error_naming(&["--key"]);
+    s.run(&[
+        "cartogram",
+        "in.geojson",
+        "--values",
+        "v.csv",
+        "--key",
+        "code",
+        "--out",
+        "o.geojson",
+        "--report",
+        "v.csv",
+    ])
+    .input_error_naming(&["--report v.csv would replace the input --values"]);
+    assert!(s.read("v.csv").starts_with("code,people"));
+    s.run(&[
+        "cartogram",
+        "in.geojson",
+        "--values",
+        "nowhere.csv",
+        "--key",
+        "code",
+        "--out",
+        "o.geojson",
+    ])
+    .input_error_naming(&["nowhere.csv"]);
+}
+
+#[test]
+fn missing_and_zero_values_are_completed_with_a_warning_naming_the_regions() {
+    let s = Scratch::new("carto_missing");
+    let mut input = grid(3);
+    // Feature 2 has no value, feature 5 a null one, feature 7 a zero; the others 1..10.
+    input["features"][2]["properties"]
+        .as_object_mut()
+        .unwrap()
+        .remove("pop");
+    input["features"][5]["properties"]["pop"] = Value::Null;
+    input["features"][7]["properties"]["pop"] = json!(0);
+    s.write("in.geojson", input.to_string());
+    // The point is the values: an accuracy the coarse grid meets for the tiny zero region.
+    let out = run_small(&s, &["--value", "pop", "--max-error", "0.05"]);
+    out.assert_code(0);
+    assert!(
+        out.stderr.contains(
+            "2 regions have no value and get the mean density (value per area) of the others: \
+             feature 2 (name 'r0_2'), feature 5 (name 'r1_2')"
+        ),
+        "{}",
+        out.stderr
+    );
+    assert!(
+        out.stderr.contains(
+            "1 regions have the value 0 and get 0.2 times the smallest positive value: \
+             feature 7 (name 'r2_1')"
+        ),
+        "{}",
+        out.stderr
+    );
+    let values = report_values(&s);
+    let given: Vec<f64> = [0, 1, 3, 4, 6]
+        .iter()
+        .map(|&k| input["features"][k]["properties"]["pop"].as_f64().unwrap())
+        .collect();
+    // Their areas: feature 0 is two unit squares, feature 4 a unit square with a lake of
+    // 0.4 × 0.4. The missing ones (unit squares) get the mean density; zero a fifth of the least.
+    let area_given = 2.0 + 1.0 + 1.0 + 0.84 + 1.0;
+    let mean = given.iter().sum::<f64>() / area_given;
+    let least = given.iter().cloned().fold(f64::INFINITY, f64::min);
+    assert!(
+        (values[2] - mean).abs() < 1e-9 && (values[5] - mean).abs() < 1e-9,
+        "{values:?}"
+    );
+    assert!((values[7] - 0.2 * least).abs() < 1e-12, "{values:?}");
+    // No positive value at all: refused.
+    let mut none = grid(3);
+    for f in none["features"].as_array_mut().unwrap() {
+        f["properties"]["pop"] = json!(0);
+    }
+    s.write("in.geojson", none.to_string());
+    run_small(&s, &["--value", "pop"]).input_error_naming(&["no region has a positive value"]);
+    run_small(&s, &["--value", "typo"]).input_error_naming(&["no region has a value"]);
+    // Negative and NaN values stay refused, naming the feature.
+    let mut neg = grid(3);
+    neg["features"][4]["properties"]["pop"] = json!("NaN");
+    s.write("in.geojson", neg.to_string());
+    run_small(&s, &["--value", "pop"])
+        .input_error_naming(&["feature 4 (name 'r1_1')", "not finite"]);
+}
+
+/// The 3×3 grid as 10° cells from 10° W, 40° N.
+fn degree_grid() -> Value {
+    map_positions(&grid(3), &|p| [10.0 * p[0] - 10.0, 10.0 * p[1] + 40.0])
+}
+
+fn bounds(v: &Value) -> ([f64; 2], [f64; 2]) {
+    let b = std::cell::Cell::new(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]));
+    map_positions(v, &|p| {
+        let (mut lo, mut hi) = b.get();
+        for c in 0..2 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+        b.set((lo, hi));
+        p
+    });
+    b.get()
+}
+
+#[test]
+fn project_computes_in_equal_earth_and_writes_km_or_degrees() {
+    let s = Scratch::new("carto_project");
+    s.write("in.geojson", degree_grid().to_string());
+    // Without --project or --sphere, degrees get a warning naming both.
+    let out = run_small(&s, &["--value", "pop"]);
+    assert!(
+        out.stderr.contains("look like longitude/latitude degrees")
+            && out.stderr.contains("--project")
+            && out.stderr.contains("--sphere"),
+        "{}",
+        out.stderr
+    );
+    let out = run_small(&s, &["--value", "pop", "--project"]);
+    out.assert_code(0);
+    assert!(!out.stderr.contains("look like"), "{}", out.stderr);
+    let km: Value = serde_json::from_str(&s.read("o.geojson")).unwrap();
+    let (lo, hi) = bounds(&km);
+    // 30° of longitude at 40–70° N is some 1 500–2 600 km wide in Equal Earth.
+    assert!(hi[0] - lo[0] > 1000.0 && hi[1] > 4000.0, "{lo:?} {hi:?}");
+    let report: Value = serde_json::from_str(&s.read("r.json")).unwrap();
+    assert!(report["error_max"].as_f64().unwrap() <= 0.01);
+    assert_eq!(report["invalid_polygons"], 0);
+    // Input areas are those on the globe, in km²: feature 1 is the 10° cell at 50–60° N.
+    let r = 6371.0f64;
+    let cell = r * r * 10f64.to_radians() * (60f64.to_radians().sin() - 50f64.to_radians().sin());
+    let a0 = report["regions"][1]["input_area"].as_f64().unwrap();
+    assert!((a0 / cell - 1.0).abs() < 1e-3, "{a0} vs {cell}");
+    // Back in degrees: near where the grid was; shares measured in Equal Earth.
+    run_small(
+        &s,
+        &["--value", "pop", "--project", "--output-lonlat", "--quiet"],
+    )
+    .assert_code(0);
+    let deg: Value = serde_json::from_str(&s.read("o.geojson")).unwrap();
+    let (lo, hi) = bounds(&deg);
+    assert!(
+        lo[0] > -25.0 && hi[0] < 35.0 && lo[1] > 30.0 && hi[1] < 80.0,
+        "{lo:?} {hi:?}"
+    );
+    // Option combinations and latitudes beyond the poles.
+    run_small(&s, &["--value", "pop", "--output-lonlat"]).input_error_naming(&["--project"]);
+    run_small(&s, &["--value", "pop", "--project", "--sphere"]).input_error_naming(&["--sphere"]);
+    let polar = map_positions(&grid(3), &|p| [p[0], 40.0 * p[1]]);
+    s.write("in.geojson", polar.to_string());
+    run_small(&s, &["--value", "pop", "--project"])
+        .input_error_naming(&["latitude 120 is outside [-90, 90]", "--project"]);
+}
+
+#[test]
+fn controls_take_effect() {
+    let s = Scratch::new("carto_control_effect");
+    s.write("in.geojson", grid(3).to_string());
+    let read = || -> Value { serde_json::from_str(&s.read("r.json")).unwrap() };
+    // The grid asked for is the grid used.
+    run_small(&s, &["--value", "pop", "--quiet"]).assert_code(0);
+    assert_eq!(read()["grid"][0], 64);
+    // A loose accuracy is met sooner; the report keeps what was asked.
+    run_small(&s, &["--value", "pop", "--quiet", "--max-error", "0.5"]).assert_code(0);
+    let loose = read();
+    assert_eq!(loose["max_error"], 0.5);
+    assert!(loose["error_max"].as_f64().unwrap() <= 0.5);
+    // No time for a round: exit 3 with the reason, outputs still written.
+    let out = run_small(&s, &["--value", "pop", "--time-limit", "0"]);
+    out.assert_code(3);
+    assert!(out.stderr.contains("time limit"), "{}", out.stderr);
+    let r = read();
+    assert_eq!(r["converged"], false);
+    assert!(r["notes"].to_string().contains("time limit"), "{r}");
+    assert!(s.path("o.geojson").exists());
+}
+
+#[test]
+fn pictures_are_coloured_with_a_legend() {
+    let s = Scratch::new("carto_pictures");
+    s.write("in.geojson", grid(3).to_string());
+    let out = run_small(
+        &s,
+        &[
+            "--value", "pop", "--quiet", "--svg", "o.svg", "--png", "o.png", "--size", "200",
+        ],
+    );
+    out.assert_code(0);
+    let svg = s.read("o.svg");
+    assert_eq!(svg.matches("<path").count(), 8);
+    assert!(svg.contains(">density</text>"), "{svg}");
+    let png = tiny_skia::Pixmap::decode_png(&s.read_bytes("o.png")).unwrap();
+    assert_eq!(png.width(), 200);
+    // Colours by share error: the legend says so.
+    run_small(
+        &s,
+        &[
+            "--value", "pop", "--quiet", "--svg", "o.svg", "--color", "error",
+        ],
+    )
+    .assert_code(0);
+    assert!(s.read("o.svg").contains(">share error</text>"));
+    // Refusals before any work: names, sizes, the same file twice.
+    run_small(&s, &["--value", "pop", "--png", "o.svg"]).input_error_naming(&[".png"]);
+    run_small(&s, &["--value", "pop", "--png", "p.png", "--size", "10"])
+        .input_error_naming(&["--size"]);
+    run_small(&s, &["--value", "pop", "--png", "r.json"]).input_error_naming(&[".png"]);
+    run_small(
+        &s,
+        &[
+            "--value", "pop", "--svg", "o.svg", "--png", "o.png", "--color", "rainbow",
+        ],
+    )
+    .input_error_naming(&["--color"]);
+    s.run(&[
+        "cartogram",
+        "in.geojson",
+        "--value",
+        "pop",
+        "--out",
+        "o.geojson",
+        "--png",
+        "x.png",
+        "--report",
+        "./x.png",
+    ])
+    .input_error_naming(&["--png and --report"]);
 }

@@ -1090,7 +1090,6 @@ proptest! {
         let set = RegionSet::build(&raw, "regions.geojson")
             .map_err(|e| TestCaseError::fail(e.to_string()))?;
         let config = cartogram::Config {
-            target_faces: 400,
             max_iter: Some(support::MAX_ITER),
             rounds: 1,
             ..Default::default()

@@ -7,7 +7,7 @@
 
 mod camera;
 mod colormap;
-mod font;
+pub(crate) mod font;
 mod histogram;
 mod plot;
 mod raster;
@@ -183,7 +183,7 @@ fn parse_view(s: Option<&str>) -> Result<Option<View>, Failure> {
 }
 
 /// Picture sizes from 64 to 4096 pixels.
-fn check_size(size: i64) -> Result<usize, Failure> {
+pub(crate) fn check_size(size: i64) -> Result<usize, Failure> {
     if (64..=4096).contains(&size) {
         Ok(size as usize)
     } else {
@@ -194,7 +194,7 @@ fn check_size(size: i64) -> Result<usize, Failure> {
 }
 
 /// Encodes and writes a picture; an unwritable path is an input error naming it.
-fn write_png(path: &Path, pixmap: Option<Pixmap>) -> Result<(), Failure> {
+pub(crate) fn write_png(path: &Path, pixmap: Option<Pixmap>) -> Result<(), Failure> {
     let internal = |m: String| Failure {
         code: 1,
         message: format!("cannot draw '{}': {m}", path.display()),

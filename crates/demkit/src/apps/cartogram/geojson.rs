@@ -19,18 +19,58 @@ pub struct RawRegion {
     pub polygons: Vec<Polygon>,
 }
 
+/// One feature's geometry, as read, before its value is known.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Shape {
+    /// How messages name the feature (see [`feature_label`]).
+    pub label: String,
+    /// True for a MultiPolygon (written back as one), false for a Polygon.
+    pub multi: bool,
+    /// The polygons (one for a Polygon): rings, exterior first, each without its closing point.
+    pub polygons: Vec<Polygon>,
+}
+
+impl Shape {
+    /// The region of this shape with `value`.
+    pub fn with_value(self, value: f64) -> RawRegion {
+        RawRegion {
+            label: self.label,
+            value,
+            multi: self.multi,
+            polygons: self.polygons,
+        }
+    }
+}
+
 /// Parses `text` as a FeatureCollection whose every feature is a Polygon or MultiPolygon with
 /// a positive numeric property `field`; `path` names the file in messages.
 ///
-/// Errors ([`Error::Format`], naming the feature): not GeoJSON, not a FeatureCollection, no
-/// features, a feature without geometry or with another geometry type, an empty polygon, a
-/// position with fewer than two or non-finite coordinates, a missing, non-numeric, non-finite
-/// or non-positive value.
+/// Errors ([`Error::Format`], naming the feature): those of [`parse_shapes`], and a missing,
+/// non-numeric, non-finite or non-positive value.
 pub fn parse_regions(
     text: &str,
     field: &str,
     path: &str,
 ) -> Result<(FeatureCollection, Vec<RawRegion>)> {
+    let (fc, shapes) = parse_shapes(text, path)?;
+    let mut regions = Vec::with_capacity(shapes.len());
+    for (shape, f) in shapes.into_iter().zip(&fc.features) {
+        let value = read_value(f, field).map_err(|msg| Error::Format {
+            path: path.to_string(),
+            msg: format!("{}: {msg}", shape.label),
+        })?;
+        regions.push(shape.with_value(value));
+    }
+    Ok((fc, regions))
+}
+
+/// Parses `text` as a FeatureCollection whose every feature is a Polygon or MultiPolygon, and
+/// returns the features' shapes in order; `path` names the file in messages.
+///
+/// Errors ([`Error::Format`], naming the feature): not GeoJSON, not a FeatureCollection, no
+/// features, a feature without geometry or with another geometry type, an empty polygon, a
+/// position with fewer than two or non-finite coordinates.
+pub fn parse_shapes(text: &str, path: &str) -> Result<(FeatureCollection, Vec<Shape>)> {
     let err = |msg: String| Error::Format {
         path: path.to_string(),
         msg,
@@ -48,7 +88,7 @@ pub fn parse_regions(
     if fc.features.is_empty() {
         return Err(err("the FeatureCollection has no features".into()));
     }
-    let mut regions = Vec::with_capacity(fc.features.len());
+    let mut shapes = Vec::with_capacity(fc.features.len());
     for (i, f) in fc.features.iter().enumerate() {
         let label = feature_label(i, f);
         let ferr = |msg: String| err(format!("{label}: {msg}"));
@@ -90,15 +130,13 @@ pub fn parse_regions(
             }
             polygons.push(out);
         }
-        let value = read_value(f, field).map_err(ferr)?;
-        regions.push(RawRegion {
+        shapes.push(Shape {
             label,
-            value,
             multi,
             polygons,
         });
     }
-    Ok((fc, regions))
+    Ok((fc, shapes))
 }
 
 /// `feature I` followed by the feature's `name` (or `NAME`, `Name`) property or its id, if any.
@@ -120,12 +158,40 @@ pub fn feature_label(index: usize, f: &Feature) -> String {
     }
 }
 
-fn json_text(v: &JsonValue) -> Option<String> {
+/// A JSON string or number as text (how a join key is compared).
+pub fn json_text(v: &JsonValue) -> Option<String> {
     match v {
         JsonValue::String(s) => Some(s.clone()),
         JsonValue::Number(n) => Some(n.to_string()),
         _ => None,
     }
+}
+
+/// The value in property `field`, allowing it to be missing: `None` when the property is
+/// absent, null or an empty string, else a finite number ≥ 0 (a JSON number, or a string
+/// holding one).
+///
+/// Errors (the message, without the feature's label): a value that is not a number, not
+/// finite, or negative.
+pub fn optional_value(f: &Feature, field: &str) -> std::result::Result<Option<f64>, String> {
+    let v = match f.properties.as_ref().and_then(|p| p.get(field)) {
+        None | Some(JsonValue::Null) => return Ok(None),
+        Some(JsonValue::String(s)) if s.trim().is_empty() => return Ok(None),
+        Some(v) => v,
+    };
+    let x = match v {
+        JsonValue::Number(n) => n.as_f64(),
+        JsonValue::String(s) => s.trim().parse::<f64>().ok(),
+        _ => None,
+    }
+    .ok_or_else(|| format!("its value '{field}' = {v} is not a number"))?;
+    if !x.is_finite() {
+        return Err(format!("its value '{field}' = {v} is not finite"));
+    }
+    if x < 0.0 {
+        return Err(format!("its value '{field}' = {v} is negative"));
+    }
+    Ok(Some(x))
 }
 
 /// The positive finite number in property `field` (a JSON number, or a string holding one).

@@ -14,14 +14,18 @@
 
 mod advect;
 mod buckets;
+pub mod colours;
 mod densify;
 pub mod diffusion;
 pub mod geojson;
 pub mod planar;
+pub mod project;
 pub mod raster;
 pub mod regions;
 pub mod sphere;
 pub mod svg;
+pub mod validity;
+pub mod values;
 
 use crate::methods::StopReason;
 use regions::{RegionSet, polygon_area};
@@ -30,51 +34,9 @@ use regions::{RegionSet, polygon_area};
 /// closing repetition.
 pub type Polygon = Vec<Vec<[f64; 2]>>;
 
-/// The most faces a cartogram's mesh may have ...
-pub const MAX_FACES: usize = 5_000_000;
-
-/// ... at about this many bytes of working memory per face (the triangulation, the map's own
-/// sea and the Cholesky factor of its diffusion, measured at 1.4–1.7 kB).
-pub const BYTES_PER_FACE: usize = 2_000;
-
-/// The fewest faces a cap may ask for.
-pub const MIN_FACES: usize = 1_000;
-
-/// The memory a mesh of `faces` faces needs, in GB.
-fn gigabytes(faces: f64) -> f64 {
-    faces * BYTES_PER_FACE as f64 / 1e9
-}
-
-/// Refuses a cap on the mesh ([`Config::max_faces`], `--faces`) outside
-/// [[`MIN_FACES`], [`MAX_FACES`]], with the memory a cap beyond it would take.
-pub fn check_max_faces(n: usize) -> crate::Result<()> {
-    if n > MAX_FACES {
-        return Err(crate::Error::Argument(format!(
-            "--faces {n} would need about {:.0} GB of memory; at most {MAX_FACES} faces",
-            gigabytes(n as f64)
-        )));
-    }
-    if n < MIN_FACES {
-        return Err(crate::Error::Argument(format!(
-            "--faces must be at least {MIN_FACES}, got {n}"
-        )));
-    }
-    Ok(())
-}
-
 /// Cartogram settings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Config {
-    /// About how many triangles would fill the regions and their sea at the base spacing,
-    /// where no polygon asks for finer (the mesh-based engine's setting; the flow has no
-    /// mesh and ignores it).
-    pub target_faces: usize,
-    /// Every polygon gets about this many triangles where [`Config::max_faces`] allows.
-    pub polygon_faces: usize,
-    /// The cap on the mesh: with many small polygons, each gets fewer triangles so that the
-    /// mesh stays under about this many (it always has every region vertex). At most
-    /// [`MAX_FACES`].
-    pub max_faces: usize,
     /// The iteration limit per round (`None`: the method's default; in the plane, the flow's
     /// integration steps).
     pub max_iter: Option<usize>,
@@ -87,27 +49,16 @@ pub struct Config {
     pub grid: usize,
     /// No further round starts after this many seconds (`None`: no limit).
     pub time_limit: Option<f64>,
-    /// DEM's stationary test: a round ends when its density error has improved by less than
-    /// 2% over this many iterations. Sharp steps of density between regions make DEM's
-    /// progress slow but steady, so the default waits longer than DEM's own 5.
-    pub patience: usize,
 }
-
-/// The default cap on the mesh (see [`Config::max_faces`]).
-pub const DEFAULT_MAX_FACES: usize = 150_000;
 
 impl Default for Config {
     fn default() -> Self {
         Self {
-            target_faces: 20_000,
-            polygon_faces: 200,
-            max_faces: DEFAULT_MAX_FACES,
             max_iter: None,
             rounds: 30,
             tolerance: 0.01,
             grid: 512,
             time_limit: None,
-            patience: 10,
         }
     }
 }
@@ -128,8 +79,6 @@ pub struct RegionFigures {
     pub target_share: f64,
     /// Its share of the regions' total area after.
     pub output_share: f64,
-    /// (output area / value) / mean over the regions of (output area / value) − 1.
-    pub ratio_error: f64,
     /// The relative error of its share: output_share / target_share − 1.
     pub error: f64,
 }
@@ -141,10 +90,6 @@ pub struct Cartogram {
     pub coordinates: Vec<Vec<Polygon>>,
     /// Per-region figures, in feature order.
     pub regions: Vec<RegionFigures>,
-    /// Median of |ratio_error|.
-    pub median_error: f64,
-    /// Largest |ratio_error|.
-    pub worst_error: f64,
     /// Mean |share error| over the regions that count (see [`counts`]).
     pub mean_error: f64,
     /// Largest |share error| over the regions that count.
@@ -179,60 +124,106 @@ pub struct Run {
     pub time_s: f64,
 }
 
-/// Reads a GeoJSON file of regions with their values in property `field` (see
-/// [`geojson::parse_regions`]) and builds their shared vertex graph ([`RegionSet::build`]).
-/// With `sphere`, positions are longitude/latitude degrees and a latitude outside [−90, 90] is
-/// refused.
+/// How the input's positions are read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Positions {
+    /// Plane coordinates, used as they are.
+    Plane,
+    /// Longitude/latitude degrees, for the cartogram on the globe ([`sphere`]).
+    Sphere,
+    /// Longitude/latitude degrees, projected to Equal Earth kilometres ([`project`]) for the
+    /// planar cartogram.
+    Project,
+}
+
+/// Reads a GeoJSON file of regions ([`geojson::parse_shapes`]) with their values from
+/// `source` ([`values::read`], missing and zero values completed by [`values::complete`] on
+/// the regions' areas as computed), and builds their shared vertex graph
+/// ([`RegionSet::build`]). With [`Positions::Sphere`] or [`Positions::Project`], positions are
+/// longitude/latitude degrees and a latitude outside [−90, 90] is refused; with
+/// [`Positions::Project`] they are projected (long edges split first). The values' warnings
+/// come first in the set's warnings.
 ///
-/// Errors: [`crate::Error::Io`] for an unreadable file; [`crate::Error::Format`] naming the
-/// feature for everything else.
+/// Errors: [`crate::Error::Io`] for an unreadable file; [`crate::Error::Parse`] for a bad
+/// table line; [`crate::Error::Format`] naming the feature for everything else, and when no
+/// region has a positive value.
 pub fn load(
     path: &std::path::Path,
-    field: &str,
-    sphere: bool,
+    source: &values::ValueSource,
+    positions: Positions,
 ) -> crate::Result<(::geojson::FeatureCollection, RegionSet)> {
     let label = crate::io::path_label(path);
     let bytes = crate::io::read_file(path)?;
     let text = String::from_utf8_lossy(&bytes);
-    let (fc, raw) = geojson::parse_regions(&text, field, &label)?;
-    if sphere {
-        for r in &raw {
-            if let Some(p) = r
+    let (fc, mut shapes) = geojson::parse_shapes(&text, &label)?;
+    let (read, mut warnings) = values::read(&fc, &shapes, source, &label)?;
+    if positions != Positions::Plane {
+        for s in &shapes {
+            if let Some(p) = s
                 .polygons
                 .iter()
                 .flatten()
                 .flatten()
                 .find(|p| !(-90.0..=90.0).contains(&p[1]))
             {
+                let option = if positions == Positions::Sphere {
+                    "--sphere"
+                } else {
+                    "--project"
+                };
                 return Err(crate::Error::Format {
                     path: label,
                     msg: format!(
-                        "{}: latitude {} is outside [-90, 90] (--sphere reads longitude, latitude in degrees)",
-                        r.label, p[1]
+                        "{}: latitude {} is outside [-90, 90] ({option} reads longitude, latitude in degrees)",
+                        s.label, p[1]
                     ),
                 });
             }
         }
     }
-    let set = RegionSet::build(&raw, &label)?;
-    Ok((fc, set))
-}
-
-/// Every region's (area / value) relative to the mean over the regions, minus 1; areas from
-/// the rings (`coordinates`, planar).
-pub fn ratio_errors(values: &[f64], coordinates: &[Vec<Polygon>]) -> Vec<f64> {
-    let areas: Vec<f64> = coordinates
+    if positions == Positions::Project {
+        for s in shapes.iter_mut() {
+            project::densify_degrees(&mut s.polygons);
+            for p in s.polygons.iter_mut().flatten().flatten() {
+                *p = project::forward(*p);
+            }
+        }
+    }
+    let areas: Vec<f64> = shapes
         .iter()
-        .map(|polys| polys.iter().map(|p| polygon_area(p)).sum())
+        .map(|s| {
+            s.polygons
+                .iter()
+                .map(|rings| {
+                    if positions == Positions::Sphere {
+                        let projected: Polygon = rings
+                            .iter()
+                            .map(|r| r.iter().map(|&p| sphere::project(p)).collect())
+                            .collect();
+                        polygon_area(&projected)
+                    } else {
+                        polygon_area(rings)
+                    }
+                })
+                .sum()
+        })
         .collect();
-    ratio_errors_of_areas(values, &areas)
-}
-
-/// [`ratio_errors`] from the areas.
-pub fn ratio_errors_of_areas(values: &[f64], areas: &[f64]) -> Vec<f64> {
-    let ratios: Vec<f64> = areas.iter().zip(values).map(|(a, v)| a / v).collect();
-    let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
-    ratios.iter().map(|r| r / mean - 1.0).collect()
+    let labels: Vec<String> = shapes.iter().map(|s| s.label.clone()).collect();
+    let (complete, filled) =
+        values::complete(&read, &areas, &labels).map_err(|msg| crate::Error::Format {
+            path: label.clone(),
+            msg,
+        })?;
+    warnings.extend(filled);
+    let raw: Vec<geojson::RawRegion> = shapes
+        .into_iter()
+        .zip(complete)
+        .map(|(s, v)| s.with_value(v))
+        .collect();
+    let mut set = RegionSet::build(&raw, &label)?;
+    warnings.append(&mut set.warnings);
+    set.warnings = warnings;
+    Ok((fc, set))
 }
 
 /// The values divided by the largest one: only their ratios matter, and sums of them cannot
@@ -267,22 +258,6 @@ pub fn share_errors(values: &[f64], areas: &[f64]) -> Vec<f64> {
             }
         })
         .collect()
-}
-
-/// Median and maximum of |e|.
-fn median_and_worst(errors: &[f64]) -> (f64, f64) {
-    let mut a: Vec<f64> = errors.iter().map(|e| e.abs()).collect();
-    a.sort_by(f64::total_cmp);
-    let n = a.len();
-    if n == 0 {
-        return (0.0, 0.0);
-    }
-    let median = if n % 2 == 1 {
-        a[n / 2]
-    } else {
-        0.5 * (a[n / 2 - 1] + a[n / 2])
-    };
-    (median, a[n - 1])
 }
 
 /// Assembles the result with planar areas: `coordinates` in the set's normalised frame, the
@@ -338,8 +313,6 @@ pub(crate) fn figures(
     run: Run,
 ) -> Cartogram {
     let values: Vec<f64> = set.regions.iter().map(|r| r.value).collect();
-    let errors = ratio_errors_of_areas(&values, measured);
-    let (median_error, worst_error) = median_and_worst(&errors);
     // Shares of values scaled to a largest value of 1, so that the sum cannot overflow.
     let unit = unit_values(&values);
     let value_total: f64 = unit.iter().sum();
@@ -369,35 +342,15 @@ pub(crate) fn figures(
             output_area: areas.1[i],
             target_share: unit[i] / value_total,
             output_share: measured[i] / area_total,
-            ratio_error: errors[i],
             error: shares[i],
         })
         .collect();
     Cartogram {
         coordinates,
         regions,
-        median_error,
-        worst_error,
         mean_error,
         max_error,
         max_error_region,
         run,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn ratio_errors_are_relative_to_the_mean_ratio() {
-        // Ratios 1, 2, 3 (mean 2): errors −½, 0, ½.
-        let e = ratio_errors_of_areas(&[1.0, 1.0, 2.0], &[1.0, 2.0, 6.0]);
-        assert_eq!(e, vec![-0.5, 0.0, 0.5]);
-        assert_eq!(median_and_worst(&e), (0.5, 0.5));
-        assert_eq!(
-            median_and_worst(&[0.1, -0.3, 0.2, 0.0]),
-            (0.15000000000000002, 0.3)
-        );
     }
 }

@@ -507,7 +507,7 @@ impl RegionSet {
 }
 
 /// Whether `p` lies inside the closed polygon `ring` (even–odd rule).
-fn inside_ring(p: [f64; 2], ring: &[[f64; 2]]) -> bool {
+pub(crate) fn inside_ring(p: [f64; 2], ring: &[[f64; 2]]) -> bool {
     let mut inside = false;
     let n = ring.len();
     for i in 0..n {
@@ -533,7 +533,7 @@ pub(crate) fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
 const OVERLAP_DEPTH: f64 = 2e-3;
 
 /// The distance from `p` to the segment `a`–`b`.
-fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+pub(crate) fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let d = [b[0] - a[0], b[1] - a[1]];
     let len2 = d[0] * d[0] + d[1] * d[1];
     let t = if len2 > 0.0 {
