@@ -14,16 +14,20 @@
 
 mod advect;
 mod buckets;
+mod cleaning;
 pub mod colours;
 mod densify;
 pub mod diffusion;
+mod frame;
 pub mod geojson;
 pub mod planar;
 pub mod project;
 pub mod raster;
 pub mod regions;
+mod rings;
 pub mod sphere;
 pub mod svg;
+mod topology;
 pub mod validity;
 pub mod values;
 
