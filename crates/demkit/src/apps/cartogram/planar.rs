@@ -1,7 +1,7 @@
-//! The planar cartogram by the diffusion flow of Gastner, Seguy & More (2018): the regions'
-//! densities (value / area, the sea at the mean density) are rasterized on a grid around the
-//! map ([`super::raster`]), diffused in closed form ([`super::diffusion`]), and every vertex
-//! moves with the flow until the density is uniform ([`super::advect`]). Rounds repeat this
+//! The planar cartogram by the flow of Gastner, Seguy & More (2018): the regions' densities
+//! (value / area, the sea at the mean density) are rasterized on a grid around the map
+//! ([`super::raster`]), the flow that takes them linearly to the mean is solved in closed
+//! form ([`super::flow`]), and every vertex moves with it ([`super::advect`]). Rounds repeat this
 //! from the map reached, with densities from the current areas, until every region's share of
 //! the area is within [`Config::tolerance`] of its share of the values.
 //!
@@ -10,7 +10,7 @@
 //! vertices before each round ([`super::densify`]), so that straight edges follow the map.
 
 use super::advect::advect;
-use super::diffusion::Diffusion;
+use super::flow::Flow;
 use super::raster::{self, IndexRings, polygon_area_centroid};
 use super::regions::RegionSet;
 use super::{Cartogram, Config, Polygon, finish, share_errors, unit_values};
@@ -27,9 +27,9 @@ const SIDE_STEP: usize = 16;
 /// The rounds stop when this many in a row have not lowered the worst error.
 const STALL_ROUNDS: usize = 4;
 
-/// The first round's flow starts from the density diffused for this time (cells², a blur
-/// of about √(2·BLUR) cells), each later round's from half the previous one's: the sharp
-/// steps of density between regions would otherwise ask for tiny first steps.
+/// The first round's density is blurred by a diffusion for this time (cells², a Gaussian of
+/// about √(2·BLUR) cells), each later round's by half the previous one's: the sharp steps of
+/// density between regions would otherwise ask for tiny first steps.
 const BLUR: f64 = 4.0;
 
 /// Accepted integration steps per round when [`Config::max_iter`] is not set.
@@ -84,7 +84,7 @@ fn worst(errors: &[f64], targets: &[f64]) -> f64 {
 }
 
 /// The largest gain of [`update_gain`].
-const MAX_GAIN: f64 = 2.5;
+const MAX_GAIN: f64 = 4.0;
 
 /// A region whose share is within this log-ratio of its target gets no gain.
 const MIN_WANTED: f64 = 0.02;
@@ -176,8 +176,8 @@ fn round(
         })
         .collect();
     let rho = raster::density(points, rings, &density, sea, nx, ny);
-    let diffusion = Diffusion::new(&rho, nx, ny);
-    let integration = advect(&diffusion, nx, ny, points, max_steps, blur);
+    let flow = Flow::new(&rho, nx, ny, blur);
+    let integration = advect(&flow, nx, ny, points, max_steps);
     for p in points.iter_mut() {
         *p = [origin[0] + p[0] * cell, origin[1] + p[1] * cell];
     }
@@ -337,3 +337,4 @@ pub fn run(
     let f = flow(set.points.clone(), rings, &values, config, progress)?;
     finish(set, f.coordinates, f.run, path)
 }
+
