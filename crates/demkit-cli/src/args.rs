@@ -239,7 +239,7 @@ pub struct CartogramArgs {
     #[arg(
         long,
         value_name = "N",
-        default_value_t = 512,
+        default_value_t = 1024,
         allow_negative_numbers = true
     )]
     pub grid: usize,

@@ -330,8 +330,8 @@ mod tests {
         let blur = 2.0;
         let flow = Flow::new(&rho, nx, ny, blur);
         let decay = (-(PI * 4.0 / 16.0).powi(2) * blur).exp();
-        for x in 0..nx {
-            let want = 3.0 + decay * m[x];
+        for (x, mode_x) in m.iter().enumerate().take(nx) {
+            let want = 3.0 + decay * mode_x;
             assert!((flow.start_density(x, 5) - want).abs() < 1e-12);
         }
     }

@@ -1,6 +1,7 @@
 //! Contiguous area cartograms. In the plane ([`planar`]), the flow-based method of Gastner,
-//! Seguy & More (2018): the regions' densities are rasterized on a grid, diffused in closed
-//! form with the discrete cosine transform, and every vertex moves with the diffusion's
+//! Seguy & More (2018): the regions' densities are rasterized on a grid, the flow that takes
+//! them linearly to their mean is solved in closed form with the discrete cosine transform,
+//! and every vertex moves with that flow's
 //! velocity field, in rounds, until every region's share of the total area is within
 //! [`Config::tolerance`] of its share of the values. On the globe ([`sphere`]), the same flow
 //! in an equal-area projection.
@@ -17,7 +18,7 @@ mod buckets;
 mod cleaning;
 pub mod colours;
 mod densify;
-pub mod diffusion;
+pub mod flow;
 mod frame;
 pub mod geojson;
 pub mod planar;
@@ -49,7 +50,7 @@ pub struct Config {
     /// No further round once every region that counts (see [`counts`]) has a share error
     /// within this fraction; the cartogram has converged when it does (default 1 %).
     pub tolerance: f64,
-    /// The planar grid's longer side, in cells (a power of two, default 512).
+    /// The planar grid's longer side, in cells (a power of two, default 1024).
     pub grid: usize,
     /// No further round starts after this many seconds (`None`: no limit).
     pub time_limit: Option<f64>,
@@ -61,7 +62,7 @@ impl Default for Config {
             max_iter: None,
             rounds: 30,
             tolerance: 0.01,
-            grid: 512,
+            grid: 1024,
             time_limit: None,
         }
     }

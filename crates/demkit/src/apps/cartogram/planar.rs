@@ -337,4 +337,3 @@ pub fn run(
     let f = flow(set.points.clone(), rings, &values, config, progress)?;
     finish(set, f.coordinates, f.run, path)
 }
-
