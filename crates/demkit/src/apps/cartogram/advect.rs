@@ -22,8 +22,6 @@ const MIN_STEP: f64 = 1e-9;
 pub struct Integration {
     /// Accepted steps.
     pub steps: usize,
-    /// Steps tried (accepted and refused).
-    pub evaluations: usize,
     /// Whether the flow reached t = 1 (false: the step limit came first).
     pub finished: bool,
 }
@@ -45,14 +43,13 @@ pub fn advect(
     };
     let mut lip = lipschitz(points, t);
     let mut dt = (FOLD_MARGIN / lip.max(1e-12)).min(1.0);
-    let (mut steps, mut evaluations) = (0, 0);
+    let mut steps = 0;
     let mut predicted = vec![[0.0; 2]; points.len()];
     let mut corrected = vec![[0.0; 2]; points.len()];
     let mut start: Vec<[f64; 2]> = points.par_iter().map(|&p| flow.at(p, t)).collect();
     let clamp = |p: [f64; 2]| [p[0].clamp(0.0, nx as f64), p[1].clamp(0.0, ny as f64)];
     while t < 1.0 && steps < max_steps {
         dt = dt.min(FOLD_MARGIN / lip.max(1e-12)).min(1.0 - t);
-        evaluations += 1;
         predicted
             .par_iter_mut()
             .zip(points.par_iter())
@@ -101,7 +98,6 @@ pub fn advect(
     }
     Integration {
         steps,
-        evaluations,
         finished: t >= 1.0,
     }
 }

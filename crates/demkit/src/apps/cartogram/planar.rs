@@ -13,6 +13,7 @@ use super::advect::advect;
 use super::flow::Flow;
 use super::raster::{self, IndexRings, polygon_area_centroid};
 use super::regions::RegionSet;
+use super::rings::bbox;
 use super::{Cartogram, Config, Polygon, finish, share_errors, unit_values};
 use crate::methods::{Progress, ProgressFn, StopReason};
 use crate::{Error, Result};
@@ -134,13 +135,7 @@ fn round(
     blur: f64,
     gain: &[f64],
 ) -> (usize, [usize; 2]) {
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in points.iter() {
-        for c in 0..2 {
-            lo[c] = lo[c].min(p[c]);
-            hi[c] = hi[c].max(p[c]);
-        }
-    }
+    let (lo, hi) = bbox(points.iter().copied());
     let (w, h) = (hi[0] - lo[0], hi[1] - lo[1]);
     let long = w.max(h);
     let margin = MARGIN * long;

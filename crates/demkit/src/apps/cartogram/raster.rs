@@ -5,6 +5,7 @@
 //! area into the cell of its centroid instead.
 
 use super::regions::ring_area;
+use super::rings::bbox;
 
 /// Scanlines per row of cells.
 pub const SUBROWS: usize = 4;
@@ -34,13 +35,7 @@ pub fn density(
     };
     for (r, polygons) in regions.iter().enumerate() {
         for rings in polygons {
-            let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-            for &v in &rings[0] {
-                for c in 0..2 {
-                    lo[c] = lo[c].min(points[v][c]);
-                    hi[c] = hi[c].max(points[v][c]);
-                }
-            }
+            let (lo, hi) = bbox(rings[0].iter().map(|&v| points[v]));
             if hi[0] - lo[0] < 1.0 || hi[1] - lo[1] < 1.0 {
                 // Small: its area, at its centroid.
                 let (area, c) = polygon_area_centroid(points, rings);
