@@ -1,6 +1,6 @@
 //! Uniform grids of buckets over a bounding box: which points or segments may lie near a box.
 
-use super::regions::{bbox, max2, min2};
+use super::regions::bbox;
 
 /// A uniform grid of buckets over a bounding box.
 pub(crate) struct Buckets {
@@ -72,33 +72,5 @@ impl Grid {
 
     pub(super) fn visit_box(&self, lo: [f64; 2], hi: [f64; 2], f: impl FnMut(usize)) {
         self.0.visit(lo, hi, f)
-    }
-}
-
-/// Segments bucketed on a grid by their bounding boxes; a visit reports each segment once.
-pub(super) struct SegmentGrid(Buckets, usize);
-
-impl SegmentGrid {
-    pub(super) fn new(points: &[[f64; 2]], edges: &[([usize; 2], Vec<usize>)]) -> Self {
-        let (lo, hi) = bbox(points.iter().copied());
-        let mut b = Buckets::new(lo, hi, edges.len());
-        for (i, ([u, v], _)) in edges.iter().enumerate() {
-            b.add_box(
-                min2(points[*u], points[*v], 0.0),
-                max2(points[*u], points[*v], 0.0),
-                i,
-            );
-        }
-        SegmentGrid(b, edges.len())
-    }
-
-    pub(super) fn visit_box(&self, lo: [f64; 2], hi: [f64; 2], mut f: impl FnMut(usize)) {
-        let mut seen = std::collections::HashSet::new();
-        self.0.visit(lo, hi, |i| {
-            if seen.insert(i) {
-                f(i)
-            }
-        });
-        let _ = self.1;
     }
 }

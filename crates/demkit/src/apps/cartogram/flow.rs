@@ -18,20 +18,24 @@ use rustdct::{DctPlanner, TransformType2And3};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-/// Transposes an `rows` × `cols` row-major matrix.
-fn transpose(a: &[f64], rows: usize, cols: usize) -> Vec<f64> {
-    let mut t = vec![0.0; a.len()];
+/// The `rows` × `cols` row-major matrix `a` transposed into `t` (`cols` × `rows`), in
+/// blocks of rows of `t` shared between threads.
+fn transpose(a: &[f64], rows: usize, cols: usize, t: &mut [f64]) {
     const B: usize = 32;
-    for r0 in (0..rows).step_by(B) {
-        for c0 in (0..cols).step_by(B) {
-            for r in r0..(r0 + B).min(rows) {
-                for c in c0..(c0 + B).min(cols) {
-                    t[c * rows + r] = a[r * cols + c];
+    t.par_chunks_mut(B * rows)
+        .enumerate()
+        .for_each(|(block, out)| {
+            let c0 = block * B;
+            let c1 = (c0 + B).min(cols);
+            for r0 in (0..rows).step_by(B) {
+                for r in r0..(r0 + B).min(rows) {
+                    let src = &a[r * cols..][..cols];
+                    for c in c0..c1 {
+                        out[(c - c0) * rows + r] = src[c];
+                    }
                 }
             }
-        }
-    }
-    t
+        });
 }
 
 /// Which inverse transform an axis gets: the cosine series (the value) or the sine series
@@ -42,7 +46,9 @@ enum Series {
     Sine,
 }
 
-/// The 2-D transforms of one grid.
+/// The 2-D transforms of one grid. Coefficients are held column-major (`kx * ny + ky`), the
+/// layout the forward transform ends in and the inverse starts from, so each direction
+/// needs one transposition.
 struct Transforms {
     nx: usize,
     ny: usize,
@@ -61,21 +67,24 @@ impl Transforms {
         }
     }
 
-    /// The cosine coefficients of `rho` (unnormalised DCT-II along both axes).
+    /// The cosine coefficients of `rho` (row-major cells; unnormalised DCT-II along both
+    /// axes), column-major.
     fn forward(&self, rho: &[f64]) -> Vec<f64> {
         let (nx, ny) = (self.nx, self.ny);
         let mut a = rho.to_vec();
         a.par_chunks_mut(nx).for_each(|r| self.row.process_dct2(r));
-        let mut t = transpose(&a, ny, nx);
+        let mut t = vec![0.0; nx * ny];
+        transpose(&a, ny, nx, &mut t);
         t.par_chunks_mut(ny).for_each(|c| self.col.process_dct2(c));
-        transpose(&t, nx, ny)
+        t
     }
 
-    /// The values at the cell centres of the series with coefficients `coef` (as from
-    /// [`Transforms::forward`], already multiplied by whatever the series needs), each axis
-    /// summed as a cosine or a sine series. For a sine series the coefficient of frequency k
-    /// is read at index k (k ≥ 1) and shifted into the transform's own layout here.
-    fn inverse(&self, coef: &[f64], x: Series, y: Series) -> Vec<f64> {
+    /// The values at the cell centres (row-major) of the series with the column-major
+    /// coefficients `coef` (as from [`Transforms::forward`], already multiplied by whatever
+    /// the series needs), each axis summed as a cosine or a sine series, times `scale`. For
+    /// a sine series the coefficient of frequency k is read at index k (k ≥ 1) and shifted
+    /// into the transform's own layout here. `coef` is used as scratch.
+    fn inverse(&self, coef: &mut [f64], x: Series, y: Series, scale: f64) -> Vec<f64> {
         let (nx, ny) = (self.nx, self.ny);
         let shift = |r: &mut [f64], s: Series| {
             if s == Series::Sine {
@@ -86,25 +95,23 @@ impl Transforms {
                 }
             }
         };
-        let mut a = coef.to_vec();
-        a.par_chunks_mut(nx).for_each(|r| {
-            shift(r, x);
-            match x {
-                Series::Cosine => self.row.process_dct3(r),
-                Series::Sine => self.row.process_dst3(r),
-            }
-        });
-        let mut t = transpose(&a, ny, nx);
-        t.par_chunks_mut(ny).for_each(|c| {
+        coef.par_chunks_mut(ny).for_each(|c| {
             shift(c, y);
             match y {
                 Series::Cosine => self.col.process_dct3(c),
                 Series::Sine => self.col.process_dst3(c),
             }
         });
-        let scale = 4.0 / (nx * ny) as f64;
-        let mut out = transpose(&t, nx, ny);
-        out.par_iter_mut().for_each(|v| *v *= scale);
+        let mut out = vec![0.0; nx * ny];
+        transpose(coef, nx, ny, &mut out);
+        out.par_chunks_mut(nx).for_each(|r| {
+            shift(r, x);
+            match x {
+                Series::Cosine => self.row.process_dct3(r),
+                Series::Sine => self.row.process_dst3(r),
+            }
+            r.iter_mut().for_each(|v| *v *= scale);
+        });
         out
     }
 }
@@ -114,12 +121,10 @@ impl Transforms {
 pub struct Flow {
     nx: usize,
     ny: usize,
-    /// Flux x component, (nx + 2) × (ny + 2) row-major, ghost lines first and last.
-    fx: Vec<f64>,
-    /// Flux y component, same layout.
-    fy: Vec<f64>,
-    /// ρ₀, same layout.
-    rho: Vec<f64>,
+    /// Per padded sample, (nx + 2) × (ny + 2) row-major with the ghost lines first and last:
+    /// the flux's x and y components and ρ₀, together so that one interpolation reads
+    /// neighbouring memory.
+    samples: Vec<[f64; 3]>,
     /// ρ̄.
     mean: f64,
 }
@@ -134,7 +139,8 @@ fn locate(x: f64, n: usize) -> (usize, f64) {
         (n, (2.0 * (x - (nf - 0.5))).clamp(0.0, 1.0))
     } else {
         let s = x + 0.5;
-        let i = (s.floor() as usize).clamp(1, n - 1);
+        // s > 1: truncation is the floor.
+        let i = (s as usize).clamp(1, n - 1);
         (i, s - i as f64)
     }
 }
@@ -179,34 +185,43 @@ impl Flow {
         let mut dx = vec![0.0; nx * ny];
         let mut dy = vec![0.0; nx * ny];
         blurred
-            .par_chunks_mut(nx)
-            .zip(dx.par_chunks_mut(nx))
-            .zip(dy.par_chunks_mut(nx))
+            .par_chunks_mut(ny)
+            .zip(dx.par_chunks_mut(ny))
+            .zip(dy.par_chunks_mut(ny))
             .enumerate()
-            .for_each(|(ky, ((b, gx), gy))| {
-                let (wy, wy2, ey) = ay[ky];
-                for kx in 0..nx {
-                    let (wx, wx2, ex) = ax[kx];
-                    let c = coef[ky * nx + kx] * ex * ey;
-                    b[kx] = c;
+            .for_each(|(kx, ((b, gx), gy))| {
+                let (wx, wx2, ex) = ax[kx];
+                for ky in 0..ny {
+                    let (wy, wy2, ey) = ay[ky];
+                    let c = coef[kx * ny + ky] * ex * ey;
+                    b[ky] = c;
                     // Ψ's coefficient (∇²Ψ = ρ₀ − ρ̄, the mean dropped), then the
                     // derivatives' sine coefficients.
                     let l = wx2 + wy2;
                     let psi = if l > 0.0 { -c / l } else { 0.0 };
-                    gx[kx] = -psi * wx;
-                    gy[kx] = -psi * wy;
+                    gx[ky] = -psi * wx;
+                    gy[ky] = -psi * wy;
                 }
             });
-        let rho0 = tr.inverse(&blurred, Series::Cosine, Series::Cosine);
-        let gx = tr.inverse(&dx, Series::Sine, Series::Cosine);
-        let gy = tr.inverse(&dy, Series::Cosine, Series::Sine);
+        let scale = 4.0 / (nx * ny) as f64;
+        let rho0 = tr.inverse(&mut blurred, Series::Cosine, Series::Cosine, scale);
+        let gx = tr.inverse(&mut dx, Series::Sine, Series::Cosine, scale);
+        let gy = tr.inverse(&mut dy, Series::Cosine, Series::Sine, scale);
         let mean = coef.first().copied().unwrap_or(0.0) / (nx * ny) as f64;
+        let (fx, fy, rho) = (
+            pad(&gx, nx, ny, Some(0)),
+            pad(&gy, nx, ny, Some(1)),
+            pad(&rho0, nx, ny, None),
+        );
+        let samples = fx
+            .par_iter()
+            .zip(fy.par_iter().zip(rho.par_iter()))
+            .map(|(&a, (&b, &c))| [a, b, c])
+            .collect();
         Flow {
             nx,
             ny,
-            fx: pad(&gx, nx, ny, Some(0)),
-            fy: pad(&gy, nx, ny, Some(1)),
-            rho: pad(&rho0, nx, ny, None),
+            samples,
             mean,
         }
     }
@@ -218,7 +233,7 @@ impl Flow {
 
     /// The blurred start density ρ₀ at the centre of cell (x, y).
     pub fn start_density(&self, x: usize, y: usize) -> f64 {
-        self.rho[(y + 1) * (self.nx + 2) + x + 1]
+        self.samples[(y + 1) * (self.nx + 2) + x + 1][2]
     }
 
     /// The velocity ∇Ψ / ρ(t) at `p` (cell units, clamped into the grid), the flux and
@@ -228,13 +243,14 @@ impl Flow {
         let (j, fy) = locate(p[1], self.ny);
         let s = self.nx + 2;
         let k = j * s + i;
-        let lerp = |v: &[f64]| {
-            (1.0 - fy) * ((1.0 - fx) * v[k] + fx * v[k + 1])
-                + fy * ((1.0 - fx) * v[k + s] + fx * v[k + s + 1])
-        };
-        let r = (1.0 - t) * lerp(&self.rho) + t * self.mean;
+        let v = &self.samples;
+        let (w00, w10) = ((1.0 - fy) * (1.0 - fx), (1.0 - fy) * fx);
+        let (w01, w11) = (fy * (1.0 - fx), fy * fx);
+        let (a, b, c, d) = (v[k], v[k + 1], v[k + s], v[k + s + 1]);
+        let lerp = |q: usize| w00 * a[q] + w10 * b[q] + w01 * c[q] + w11 * d[q];
+        let r = (1.0 - t) * lerp(2) + t * self.mean;
         if r > 0.0 {
-            [lerp(&self.fx) / r, lerp(&self.fy) / r]
+            [lerp(0) / r, lerp(1) / r]
         } else {
             [0.0, 0.0]
         }
@@ -249,9 +265,10 @@ impl Flow {
         let s = self.nx + 2;
         let k = j * s + i;
         let v = |k: usize| {
-            let r = (1.0 - t) * self.rho[k] + t * self.mean;
+            let [fx, fy, rho] = self.samples[k];
+            let r = (1.0 - t) * rho + t * self.mean;
             if r > 0.0 {
-                [self.fx[k] / r, self.fy[k] / r]
+                [fx / r, fy / r]
             } else {
                 [0.0, 0.0]
             }

@@ -17,6 +17,7 @@ mod advect;
 mod buckets;
 mod cleaning;
 pub mod colours;
+mod crossings;
 mod densify;
 pub mod flow;
 mod frame;

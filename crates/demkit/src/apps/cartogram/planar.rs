@@ -10,6 +10,8 @@
 //! vertices before each round ([`super::densify`]), so that straight edges follow the map.
 
 use super::advect::advect;
+use super::crossings::crossing_edges;
+use super::densify::split_edges;
 use super::flow::Flow;
 use super::raster::{self, IndexRings, polygon_area_centroid};
 use super::regions::RegionSet;
@@ -32,6 +34,12 @@ const STALL_ROUNDS: usize = 4;
 /// about √(2·BLUR) cells), each later round's by half the previous one's: the sharp steps of
 /// density between regions would otherwise ask for tiny first steps.
 const BLUR: f64 = 4.0;
+
+/// How many times a round's flow is run again with the edges that crossed split.
+const REFINEMENTS: usize = 4;
+
+/// The parts each crossing edge is split into before the flow is run again.
+const REFINE_PARTS: usize = 4;
 
 /// Accepted integration steps per round when [`Config::max_iter`] is not set.
 const DEFAULT_STEPS: usize = 10_000;
@@ -124,31 +132,58 @@ fn update_gain(gain: &mut [f64], targets: &[f64], before: &[f64], after: &[f64])
     }
 }
 
+/// What every round of one run shares.
+#[derive(Clone, Copy)]
+struct Setup {
+    /// Cells along the grid's longer side.
+    grid: usize,
+    /// Accepted integration steps per round.
+    max_steps: usize,
+    /// The lines of the grid's lower and upper walls, when fixed (see [`flow`]).
+    walls: Option<[f64; 2]>,
+}
+
 /// One round of the flow: rasterize, diffuse, move `points` (in place). Returns the
 /// integration steps taken and the grid.
 fn round(
     points: &mut Vec<[f64; 2]>,
     rings: &mut [IndexRings],
     values: &[f64],
-    grid: usize,
-    max_steps: usize,
+    setup: &Setup,
     blur: f64,
     gain: &[f64],
 ) -> (usize, [usize; 2]) {
+    let Setup {
+        grid,
+        max_steps,
+        walls,
+    } = *setup;
     let (lo, hi) = bbox(points.iter().copied());
     let (w, h) = (hi[0] - lo[0], hi[1] - lo[1]);
     let long = w.max(h);
     let margin = MARGIN * long;
-    let cell = (long + 2.0 * margin) / grid as f64;
+    let mut cell = (long + 2.0 * margin) / grid as f64;
     let step = (grid / SIDE_STEP).max(1);
+    let mut origin_y = None;
+    if let Some([y0, y1]) = walls {
+        // The grid's lower and upper walls on the given lines, the cell a whole fraction
+        // of the distance between them.
+        let rows = ((y1 - y0) / cell).ceil().clamp(1.0, grid as f64);
+        cell = (y1 - y0) / rows;
+        origin_y = Some((y0, rows as usize));
+    }
     let side = |e: f64| {
         let n = ((e + 2.0 * margin) / cell).ceil() as usize;
         (n.div_ceil(step) * step).clamp(step, grid)
     };
-    let (nx, ny) = (side(w), side(h));
+    let nx = side(w);
+    let ny = origin_y.map_or_else(|| side(h), |(_, rows)| rows);
     let origin = [
         0.5 * (lo[0] + hi[0]) - 0.5 * nx as f64 * cell,
-        0.5 * (lo[1] + hi[1]) - 0.5 * ny as f64 * cell,
+        origin_y.map_or_else(
+            || 0.5 * (lo[1] + hi[1]) - 0.5 * ny as f64 * cell,
+            |(y0, _)| y0,
+        ),
     ];
     for p in points.iter_mut() {
         *p = [(p[0] - origin[0]) / cell, (p[1] - origin[1]) / cell];
@@ -172,7 +207,22 @@ fn round(
         .collect();
     let rho = raster::density(points, rings, &density, sea, nx, ny);
     let flow = Flow::new(&rho, nx, ny, blur);
-    let integration = advect(&flow, nx, ny, points, max_steps);
+    let mut start = points.clone();
+    let crossing_before = crossing_edges(points, rings);
+    let mut integration = advect(&flow, nx, ny, points, max_steps);
+    for _ in 0..REFINEMENTS {
+        let mut crossing = crossing_edges(points, rings);
+        // Crossings the round started with are not the flow's to mend.
+        crossing.retain(|e| !crossing_before.contains(e));
+        if crossing.is_empty() {
+            break;
+        }
+        // Straight edges between moved vertices crossed where the flow bends them more than
+        // they are apart: the same flow again, from the same start, with those edges split.
+        split_edges(&mut start, rings, &crossing, REFINE_PARTS);
+        points.clone_from(&start);
+        integration = advect(&flow, nx, ny, points, max_steps);
+    }
     for p in points.iter_mut() {
         *p = [origin[0] + p[0] * cell, origin[1] + p[1] * cell];
     }
@@ -200,12 +250,17 @@ pub struct Flowed {
 /// them, none started after `config.time_limit`, and until [`STALL_ROUNDS`] in a row have
 /// not improved on the best.
 ///
+/// With `walls` = `[y0, y1]`, the grid's lower and upper walls lie on those lines in every
+/// round, which the flow does not cross (the poles of the globe's projection), and the result
+/// is neither scaled nor moved.
+///
 /// Errors: a grid side refused by [`check_grid`].
 pub fn flow(
     points: Vec<[f64; 2]>,
     rings: Vec<IndexRings>,
     values: &[f64],
     config: &Config,
+    walls: Option<[f64; 2]>,
     progress: ProgressFn,
 ) -> Result<Flowed> {
     let t0 = Instant::now();
@@ -215,7 +270,11 @@ pub fn flow(
     let targets: Vec<f64> = values.iter().map(|v| v / total).collect();
     let (mut points, mut rings) = (points, rings);
     let (a_in, c_in) = centroid(&points, &rings);
-    let max_steps = config.max_iter.unwrap_or(DEFAULT_STEPS).max(1);
+    let setup = Setup {
+        grid: config.grid,
+        max_steps: config.max_iter.unwrap_or(DEFAULT_STEPS).max(1),
+        walls,
+    };
     let rounds_cap = config.rounds.max(1);
     let mut best: Option<(f64, Vec<[f64; 2]>, Vec<IndexRings>)> = None;
     let (mut since_best, mut steps, mut rounds) = (0, 0, 0);
@@ -261,15 +320,7 @@ pub fn flow(
         }
         let blur = BLUR * 0.5f64.powi(rounds as i32);
         let before = region_areas(&points, &rings);
-        let (s, g) = round(
-            &mut points,
-            &mut rings,
-            &values,
-            config.grid,
-            max_steps,
-            blur,
-            &gain,
-        );
+        let (s, g) = round(&mut points, &mut rings, &values, &setup, blur, &gain);
         update_gain(&mut gain, &targets, &before, &region_areas(&points, &rings));
         steps += s;
         rounds += 1;
@@ -279,7 +330,7 @@ pub fn flow(
         return Err(Error::Numerical("the cartogram ran no round".into()));
     };
     let (a, c) = centroid(&points, &rings);
-    if a > 0.0 && a_in > 0.0 {
+    if walls.is_none() && a > 0.0 && a_in > 0.0 {
         let k = (a_in / a).sqrt();
         for p in points.iter_mut() {
             *p = [c_in[0] + k * (p[0] - c[0]), c_in[1] + k * (p[1] - c[1])];
@@ -329,6 +380,6 @@ pub fn run(
 ) -> Result<Cartogram> {
     let values: Vec<f64> = set.regions.iter().map(|r| r.value).collect();
     let rings: Vec<IndexRings> = set.regions.iter().map(|r| r.polygons.clone()).collect();
-    let f = flow(set.points.clone(), rings, &values, config, progress)?;
+    let f = flow(set.points.clone(), rings, &values, config, None, progress)?;
     finish(set, f.coordinates, f.run, path)
 }

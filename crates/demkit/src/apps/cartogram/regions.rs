@@ -11,7 +11,7 @@ use super::Polygon;
 use super::cleaning::{Snapper, remove_spikes};
 pub use super::frame::Frame;
 use super::geojson::RawRegion;
-pub(crate) use super::rings::{bbox, inside_ring, max2, min2, orient, segment_distance};
+pub(crate) use super::rings::{bbox, inside_ring, segment_distance};
 pub use super::rings::{polygon_area, ring_area, ring_orientation};
 use crate::{Error, Result};
 use std::collections::HashMap;
@@ -43,9 +43,16 @@ pub struct RegionSet {
     pub warnings: Vec<String>,
 }
 
-/// Relative tolerance (of the bounding box diagonal) below which two positions are the same
-/// vertex, or a vertex lies on an edge.
-const SNAP: f64 = 1e-9;
+/// Relative tolerance (of the bounding box diagonal) below which a vertex lies on an edge of
+/// its own region, or a ring has no area (as a fraction of the diagonal squared).
+pub(super) const SNAP: f64 = 1e-9;
+
+/// Relative tolerance (of the bounding box diagonal) within which two positions are merged
+/// into one vertex, and a vertex of one region near another region's edge is taken to lie on
+/// it (a border not shared exactly): a thousandth of the flow's cell at the default grid, and
+/// well above the rounding of map files' coordinates, whose clusters of points a metre apart
+/// would otherwise cross themselves once projected.
+const NEAR: f64 = 1e-6;
 
 impl RegionSet {
     /// Builds the shared vertex graph of `raw` in its normalised frame ([`Frame::of_box`] of
@@ -71,7 +78,7 @@ impl RegionSet {
         let (lo, hi) = (frame.to_unit(lo), frame.to_unit(hi));
         let diag = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt();
         let tol = SNAP * diag;
-        let mut snap = Snapper::new(tol);
+        let mut snap = Snapper::new(NEAR * diag);
         let mut regions = Vec::with_capacity(raw.len());
         let mut warnings = Vec::new();
         for r in raw {
@@ -154,8 +161,8 @@ impl RegionSet {
             frame,
             warnings,
         };
-        set.split_t_junctions(tol);
-        set.check_crossings(path)?;
+        set.split_t_junctions(tol, NEAR * diag);
+        set.check_crossings(path, tol)?;
         set.check_holes_inside(path)?;
         Ok(set)
     }
@@ -262,6 +269,89 @@ mod tests {
         let coords = set.coordinates();
         let total: f64 = coords.iter().flatten().map(|p| polygon_area(p)).sum();
         assert!((total - 4.0).abs() < 1e-12);
+    }
+
+    /// Whether any two edges of `set` cross properly.
+    fn any_crossing(set: &RegionSet) -> bool {
+        let segments: Vec<[[f64; 2]; 2]> = set
+            .edges()
+            .iter()
+            .map(|([a, b], _)| [set.points[*a], set.points[*b]])
+            .collect();
+        !super::super::crossings::proper_crossings(&segments).is_empty()
+    }
+
+    #[test]
+    fn a_slight_overlap_of_two_borders_is_snapped_onto_one_with_a_warning() {
+        // B's left border wanders 1e-4 either side of A's right edge: into A at (0.9999,
+        // 0.5), out at (1.0001, 0.2), so that their edges cross.
+        let a = vec![square(0.0, 0.0, 1.0)];
+        let b = vec![vec![
+            [1.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [0.9999, 0.5],
+            [1.0001, 0.2],
+            [1.0, 0.0],
+        ]];
+        let raw_set = [raw("A", vec![a]), raw("B", vec![b])];
+        let set = RegionSet::build(&raw_set, "t").unwrap();
+        assert!(!any_crossing(&set));
+        assert!(
+            set.warnings
+                .iter()
+                .any(|w| w.contains("A and B") && w.contains("moved onto")),
+            "{:?}",
+            set.warnings
+        );
+        // B's vertex inside A went onto A's edge, which now carries it: A keeps its area, B
+        // loses the sliver that overlapped A.
+        let coords = set.coordinates();
+        let area = |r: usize| -> f64 { coords[r].iter().map(|p| polygon_area(p)).sum() };
+        let unit = area(0);
+        assert_eq!(set.regions[0].polygons[0][0].len(), 5);
+        let sliver = 0.5 * 0.5 * 1e-4 * unit;
+        assert!(
+            (area(1) - (unit - sliver)).abs() < 1e-3 * sliver,
+            "{} {unit}",
+            area(1)
+        );
+    }
+
+    #[test]
+    fn near_misses_of_a_border_and_clusters_of_points_are_joined() {
+        // B's vertex (1 + 1e-7, 0.5) lies off A's right edge by 5e-8 of the diagonal; A's
+        // corner (0, 1) comes as a cluster of three points a millionth apart.
+        let a = vec![vec![
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0],
+            [1e-7, 1.0 - 1e-7],
+            [0.0, 1.0 - 2e-7],
+            [0.0, 0.0],
+        ]];
+        let b = vec![vec![
+            [1.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0 + 1e-7, 0.5],
+            [1.0, 0.0],
+        ]];
+        let set = RegionSet::build(&[raw("A", vec![a]), raw("B", vec![b])], "t").unwrap();
+        // A's ring: its four corners and B's vertex, now shared.
+        assert_eq!(set.regions[0].polygons[0][0].len(), 5);
+        let shared = set.edges().iter().filter(|(_, o)| o.len() == 2).count();
+        assert_eq!(shared, 2);
+        assert!(
+            set.warnings
+                .iter()
+                .any(|w| w.starts_with("A: its border and its neighbours'")),
+            "{:?}",
+            set.warnings
+        );
     }
 
     #[test]

@@ -77,8 +77,8 @@ pub(crate) fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
     (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
 }
 
-/// The distance from `p` to the segment `a`–`b`.
-pub(crate) fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+/// The point of the segment `a`–`b` nearest to `p`.
+pub(crate) fn closest_point(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     let d = [b[0] - a[0], b[1] - a[1]];
     let len2 = d[0] * d[0] + d[1] * d[1];
     let t = if len2 > 0.0 {
@@ -86,7 +86,13 @@ pub(crate) fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     } else {
         0.0
     };
-    (p[0] - a[0] - t * d[0]).hypot(p[1] - a[1] - t * d[1])
+    [a[0] + t * d[0], a[1] + t * d[1]]
+}
+
+/// The distance from `p` to the segment `a`–`b`.
+pub(crate) fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let q = closest_point(p, a, b);
+    (p[0] - q[0]).hypot(p[1] - q[1])
 }
 
 /// The lower corner of the box of `a` and `b`, moved by `pad` on both axes.

@@ -2,7 +2,8 @@
 //! cylindrical projection (standard parallels ±[`STANDARD_PARALLEL`]°, areas in steradians),
 //! the planar flow ([`super::planar::flow`]) equalizes the density there, and the result is
 //! projected back. Equal areas in the projection are equal areas on the globe, so the shares
-//! reached in the plane are those on the sphere.
+//! reached in the plane are those on the sphere. The flow's grid has its walls on the poles,
+//! so no point is moved past them.
 
 use super::planar::flow;
 use super::raster::IndexRings;
@@ -43,7 +44,15 @@ pub fn run(
     let values: Vec<f64> = set.regions.iter().map(|r| r.value).collect();
     let rings: Vec<IndexRings> = set.regions.iter().map(|r| r.polygons.clone()).collect();
     let in_areas = super::planar::region_areas(&points, &rings);
-    let f = flow(points, rings, &values, config, progress)?;
+    let pole = project([0.0, 90.0])[1];
+    let f = flow(
+        points,
+        rings,
+        &values,
+        config,
+        Some([-pole, pole]),
+        progress,
+    )?;
     let out_areas = super::planar::region_areas(&f.points, &f.rings);
     let coordinates: Vec<Vec<Polygon>> = f
         .coordinates

@@ -7,7 +7,8 @@
 
 use super::Polygon;
 use super::buckets::Buckets;
-use super::regions::{Frame, bbox, inside_ring, orient, ring_area, segment_distance};
+use super::crossings::{crossing_point, proper_crossings};
+use super::regions::{Frame, bbox, inside_ring, ring_area, segment_distance};
 use std::collections::HashSet;
 
 /// Distances below this fraction of the map's larger half-side are rounding.
@@ -190,49 +191,13 @@ pub fn check(coordinates: &[Vec<Polygon>], labels: &[String]) -> Vec<Invalid> {
     found
 }
 
-/// Pairs of edges that cross properly (no shared end position, each edge's ends strictly on
-/// both sides of the other), with a crossing's approximate position.
+/// Pairs of edges that cross properly (see [`proper_crossings`]), with where they cross.
 fn crossings(edges: &[Edge]) -> Vec<(usize, usize, [f64; 2])> {
-    let mut out = Vec::new();
-    if edges.is_empty() {
-        return out;
-    }
-    let (lo, hi) = bbox(edges.iter().flat_map(|e| [e.a, e.b]));
-    let mut grid = Buckets::new(lo, hi, edges.len());
-    let boxed = |e: &Edge| {
-        (
-            [e.a[0].min(e.b[0]), e.a[1].min(e.b[1])],
-            [e.a[0].max(e.b[0]), e.a[1].max(e.b[1])],
-        )
-    };
-    for (i, e) in edges.iter().enumerate() {
-        let (l, h) = boxed(e);
-        grid.add_box(l, h, i);
-    }
-    for (i, e) in edges.iter().enumerate() {
-        let (l, h) = boxed(e);
-        let mut seen = HashSet::new();
-        grid.visit(l, h, |j| {
-            if j <= i || !seen.insert(j) {
-                return;
-            }
-            let f = &edges[j];
-            if e.a == f.a || e.a == f.b || e.b == f.a || e.b == f.b {
-                return;
-            }
-            let (o1, o2) = (orient(e.a, e.b, f.a), orient(e.a, e.b, f.b));
-            let (o3, o4) = (orient(f.a, f.b, e.a), orient(f.a, f.b, e.b));
-            if o1 * o2 < 0.0 && o3 * o4 < 0.0 {
-                let t = o1 / (o1 - o2);
-                let at = [
-                    f.a[0] + t * (f.b[0] - f.a[0]),
-                    f.a[1] + t * (f.b[1] - f.a[1]),
-                ];
-                out.push((i, j, at));
-            }
-        });
-    }
-    out
+    let segments: Vec<[[f64; 2]; 2]> = edges.iter().map(|e| [e.a, e.b]).collect();
+    proper_crossings(&segments)
+        .into_iter()
+        .map(|(i, j)| (i, j, crossing_point(segments[i], segments[j])))
+        .collect()
 }
 
 /// Polygons (region, polygon) lying inside another region's polygon (inside its exterior and
