@@ -22,6 +22,7 @@ mod densify;
 pub mod flow;
 mod frame;
 pub mod geojson;
+mod loops;
 pub mod planar;
 pub mod project;
 pub mod raster;

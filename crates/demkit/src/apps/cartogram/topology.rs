@@ -142,6 +142,7 @@ impl RegionSet {
         let limit = OVERLAP_DEPTH * diagonal;
         let mut repaired: Vec<((usize, usize), f64)> = Vec::new();
         for attempt in 0..=OVERLAP_REPAIRS {
+            self.cut_small_loops();
             let pairs = self.overlapping_pairs(path)?;
             if pairs.is_empty() {
                 break;
