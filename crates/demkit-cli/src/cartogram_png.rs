@@ -100,7 +100,8 @@ fn legend(pixmap: &mut Pixmap, colouring: &Colouring, top: f32) {
         2.0,
         ink,
     );
-    let (swatch, gap) = (70.0f32, 6.0f32);
+    // Labels of up to 8 characters (12 pixels each) stay apart.
+    let (swatch, gap) = (84.0f32, 16.0f32);
     for (k, (c, label)) in colouring.legend.swatches.iter().enumerate() {
         let x = MARGIN as f32 + k as f32 * (swatch + gap);
         if let Some(r) = Rect::from_xywh(x, top + 22.0, swatch, 14.0) {
