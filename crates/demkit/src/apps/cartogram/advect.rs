@@ -18,12 +18,37 @@ const FOLD_MARGIN: f64 = 0.4;
 const MIN_STEP: f64 = 1e-9;
 
 /// How the integration went.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Integration {
     /// Accepted steps.
     pub steps: usize,
     /// Whether the flow reached t = 1 (false: the step limit came first).
     pub finished: bool,
+    /// The accepted steps' start times and lengths, for [`replay`].
+    pub schedule: Vec<(f64, f64)>,
+}
+
+/// One of Heun's steps from `p` at time `t` of length `dt`, clamped into the grid.
+fn heun(flow: &Flow, nx: usize, ny: usize, p: [f64; 2], t: f64, dt: f64) -> [f64; 2] {
+    let clamp = |p: [f64; 2]| [p[0].clamp(0.0, nx as f64), p[1].clamp(0.0, ny as f64)];
+    let a = flow.at(p, t);
+    let q = clamp([p[0] + dt * a[0], p[1] + dt * a[1]]);
+    let b = flow.at(q, t + dt);
+    clamp([
+        p[0] + 0.5 * dt * (a[0] + b[0]),
+        p[1] + 0.5 * dt * (a[1] + b[1]),
+    ])
+}
+
+/// Moves `points` with the steps [`advect`] accepted for other points of the same flow
+/// (`schedule`): the same map, so points added between those (on their edges) land where the
+/// flow takes them relative to the others, at the cost of these points alone.
+pub fn replay(flow: &Flow, nx: usize, ny: usize, points: &mut [[f64; 2]], schedule: &[(f64, f64)]) {
+    points.par_iter_mut().for_each(|p| {
+        for &(t, dt) in schedule {
+            *p = heun(flow, nx, ny, *p, t, dt);
+        }
+    });
 }
 
 /// Moves `points` (cell units, inside the nx × ny grid of `flow`) with the flow from t = 0
@@ -44,6 +69,7 @@ pub fn advect(
     let mut lip = lipschitz(points, t);
     let mut dt = (FOLD_MARGIN / lip.max(1e-12)).min(1.0);
     let mut steps = 0;
+    let mut schedule = Vec::new();
     let mut predicted = vec![[0.0; 2]; points.len()];
     let mut corrected = vec![[0.0; 2]; points.len()];
     let mut start: Vec<[f64; 2]> = points.par_iter().map(|&p| flow.at(p, t)).collect();
@@ -87,6 +113,7 @@ pub fn advect(
             continue;
         }
         points.copy_from_slice(&corrected);
+        schedule.push((t, dt));
         t += dt;
         steps += 1;
         lip = lip_next;
@@ -99,6 +126,7 @@ pub fn advect(
     Integration {
         steps,
         finished: t >= 1.0,
+        schedule,
     }
 }
 
@@ -134,8 +162,13 @@ mod tests {
                 });
             }
         }
+        let start = pts.clone();
         let run = advect(&flow, n, n, &mut pts, 10_000);
         assert!(run.finished && run.steps > 1);
+        // The same steps replayed give the same map.
+        let mut again = start;
+        replay(&flow, n, n, &mut again, &run.schedule);
+        assert_eq!(again, pts);
         let area = super::super::regions::ring_area(&pts).abs();
         let mass = contrast * s * s;
         let want = mass / (mass + (n * n) as f64 - s * s) * (n * n) as f64;

@@ -9,7 +9,7 @@
 //! shared; the flow's map is one-to-one, so regions cannot overlap. Long edges get extra
 //! vertices before each round ([`super::densify`]), so that straight edges follow the map.
 
-use super::advect::advect;
+use super::advect::{advect, replay};
 use super::crossings::crossing_edges;
 use super::densify::split_edges;
 use super::flow::Flow;
@@ -36,7 +36,7 @@ const STALL_ROUNDS: usize = 4;
 const BLUR: f64 = 4.0;
 
 /// How many times a round's flow is run again with the edges that crossed split.
-const REFINEMENTS: usize = 4;
+const REFINEMENTS: usize = 8;
 
 /// The parts each crossing edge is split into before the flow is run again.
 const REFINE_PARTS: usize = 4;
@@ -209,7 +209,7 @@ fn round(
     let flow = Flow::new(&rho, nx, ny, blur);
     let mut start = points.clone();
     let crossing_before = crossing_edges(points, rings);
-    let mut integration = advect(&flow, nx, ny, points, max_steps);
+    let integration = advect(&flow, nx, ny, points, max_steps);
     for _ in 0..REFINEMENTS {
         let mut crossing = crossing_edges(points, rings);
         // Crossings the round started with are not the flow's to mend.
@@ -218,10 +218,12 @@ fn round(
             break;
         }
         // Straight edges between moved vertices crossed where the flow bends them more than
-        // they are apart: the same flow again, from the same start, with those edges split.
+        // they are apart: those edges split, and the new vertices taken by the same steps.
+        let old = start.len();
         split_edges(&mut start, rings, &crossing, REFINE_PARTS);
-        points.clone_from(&start);
-        integration = advect(&flow, nx, ny, points, max_steps);
+        let mut added = start[old..].to_vec();
+        replay(&flow, nx, ny, &mut added, &integration.schedule);
+        points.extend(added);
     }
     for p in points.iter_mut() {
         *p = [origin[0] + p[0] * cell, origin[1] + p[1] * cell];
