@@ -27,7 +27,11 @@ const MARGIN: f64 = 0.25;
 /// The grid's shorter side is a multiple of its longer side divided by this.
 const SIDE_STEP: usize = 16;
 
-/// The rounds stop when this many in a row have not lowered the worst error.
+/// The grid may be refined, when the rounds stall, up to this many times the grid asked for.
+const GRID_GROWTH: usize = 2;
+
+/// The rounds stop (or the grid is refined) when this many in a row have not lowered the
+/// worst error.
 const STALL_ROUNDS: usize = 4;
 
 /// The first round's density is blurred by a diffusion for this time (cells², a Gaussian of
@@ -272,7 +276,7 @@ pub fn flow(
     let targets: Vec<f64> = values.iter().map(|v| v / total).collect();
     let (mut points, mut rings) = (points, rings);
     let (a_in, c_in) = centroid(&points, &rings);
-    let setup = Setup {
+    let mut setup = Setup {
         grid: config.grid,
         max_steps: config.max_iter.unwrap_or(DEFAULT_STEPS).max(1),
         walls,
@@ -302,7 +306,23 @@ pub fn flow(
             stop_reason = StopReason::Tolerance;
             break;
         }
-        if since_best >= STALL_ROUNDS {
+        if since_best >= STALL_ROUNDS && setup.grid < config.grid * GRID_GROWTH && setup.grid < 8192
+        {
+            // Regions of a few cells stall on the grid's resolution: on from the best round
+            // with cells half as wide.
+            notes.push(format!(
+                "the rounds stopped improving on the grid of {}; continued from the best round \
+                 on a grid of {}",
+                setup.grid,
+                2 * setup.grid
+            ));
+            setup.grid *= 2;
+            since_best = 0;
+            if let Some((_, p, r)) = &best {
+                points.clone_from(p);
+                rings.clone_from(r);
+            }
+        } else if since_best >= STALL_ROUNDS {
             stop_reason = StopReason::Stationary;
             notes.push(format!(
                 "the rounds stopped improving: {STALL_ROUNDS} rounds in a row without a lower \
@@ -384,4 +404,53 @@ pub fn run(
     let rings: Vec<IndexRings> = set.regions.iter().map(|r| r.polygons.clone()).collect();
     let f = flow(set.points.clone(), rings, &values, config, None, progress)?;
     finish(set, f.coordinates, f.run, path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 4 × 4 block of unit squares of value 1 but one of 1e-3, as rings over shared points.
+    fn one_small() -> (Vec<[f64; 2]>, Vec<IndexRings>, Vec<f64>) {
+        let n = 4;
+        let points: Vec<[f64; 2]> = (0..=n)
+            .flat_map(|j| (0..=n).map(move |i| [i as f64, j as f64]))
+            .collect();
+        let at = |i: usize, j: usize| j * (n + 1) + i;
+        let mut rings = Vec::new();
+        let mut values = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                rings.push(vec![vec![vec![
+                    at(i, j),
+                    at(i + 1, j),
+                    at(i + 1, j + 1),
+                    at(i, j + 1),
+                ]]]);
+                values.push(if (i, j) == (1, 1) { 1e-3 } else { 1.0 });
+            }
+        }
+        (points, rings, values)
+    }
+
+    #[test]
+    fn a_stalled_run_goes_on_at_twice_the_grid_and_no_further() {
+        let (points, rings, values) = one_small();
+        // An accuracy no grid reaches: the rounds run until they stall.
+        let config = Config {
+            grid: 16,
+            rounds: 1000,
+            tolerance: 1e-12,
+            ..Config::default()
+        };
+        let f = flow(points, rings, &values, &config, None, &mut |_| {}).unwrap();
+        // The rounds stall on 16 cells, go on at 32, stall again and stop there.
+        assert!(
+            f.run.notes.iter().any(|n| n.contains("on a grid of 32")),
+            "{:?}",
+            f.run.notes
+        );
+        assert_eq!(f.run.grid[0], 32);
+        assert!(!f.run.notes.iter().any(|n| n.contains("on a grid of 64")));
+    }
 }
