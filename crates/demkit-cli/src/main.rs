@@ -31,9 +31,35 @@ impl From<demkit::Error> for Failure {
     fn from(e: demkit::Error) -> Self {
         Failure {
             code: if e.is_input_error() { 2 } else { 1 },
-            message: e.to_string(),
+            message: with_flag_names(&e),
         }
     }
+}
+
+/// The library's parameters and the flags that set them.
+const FLAGS: [(&str, &str); 9] = [
+    ("epsilon", "--epsilon"),
+    ("dt", "--dt"),
+    ("max_iter", "--max-iter"),
+    ("alpha", "--alpha"),
+    ("beta", "--beta"),
+    ("gamma", "--gamma"),
+    ("vertices", "--vertices"),
+    ("grid", "--grid"),
+    ("shape", "--shape"),
+];
+
+/// The error's message, with the library parameter an argument error starts with named by its
+/// flag ("epsilon must be positive" → "--epsilon must be positive").
+fn with_flag_names(e: &demkit::Error) -> String {
+    if let demkit::Error::Argument(msg) = e {
+        for (parameter, flag) in FLAGS {
+            if let Some(rest) = msg.strip_prefix(parameter).filter(|r| r.starts_with(' ')) {
+                return demkit::Error::Argument(format!("{flag}{rest}")).to_string();
+            }
+        }
+    }
+    e.to_string()
 }
 
 impl Failure {

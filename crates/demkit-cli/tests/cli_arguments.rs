@@ -48,6 +48,18 @@ fn negative_numbers_get_the_options_own_range_message() {
 }
 
 #[test]
+fn the_librarys_parameters_are_named_by_their_flags() {
+    let s = Scratch::new("flags");
+    s.generate(&["grid", "--nx", "3", "--ny", "3", "--out", "g.obj"]);
+    s.run(&["map", "g.obj", "--out", "o.obj", "--epsilon", "0"])
+        .input_error_naming(&["--epsilon must be positive"]);
+    s.run(&["map", "g.obj", "--out", "o.obj", "--dt", "0"])
+        .input_error_naming(&["--dt must be positive"]);
+    s.run(&["map", "g.obj", "--out", "o.obj", "--max-iter", "0"])
+        .input_error_naming(&["--max-iter must be at least 1"]);
+}
+
+#[test]
 fn missing_arguments_are_named_on_the_error_line() {
     let s = Scratch::new("missing");
     s.run(&["map"]).input_error_naming(&["--out", "<MESH>"]);

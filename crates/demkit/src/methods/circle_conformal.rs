@@ -14,19 +14,14 @@ pub fn run(mesh: &TriMesh, population: &[f64]) -> Result<MapResult> {
     let t0 = Instant::now();
     let domain = crate::init::circle_domain::circle_domain_map(mesh, &loops)?;
     let domain = crate::init::disk_mobius::balance_areas(&domain, &mesh.faces, population);
-    Ok(MapResult {
-        flat_torus: None,
-        refined: None,
-        objective: None,
-        method: "circle-conformal",
-        positions: domain.positions.clone(),
-        initial: domain.positions,
-        converged: true,
-        stop_reason: StopReason::Tolerance,
-        iterations: 0,
-        history: Vec::new(),
-        time_init: t0.elapsed().as_secs_f64(),
-        time_map: 0.0,
-        notes: Vec::new(),
-    })
+    let mut result = MapResult::new(
+        "circle-conformal",
+        domain.positions.clone(),
+        domain.positions,
+        StopReason::Tolerance,
+        0,
+        Vec::new(),
+    );
+    result.time_init = t0.elapsed().as_secs_f64();
+    Ok(result)
 }

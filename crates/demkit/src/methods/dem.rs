@@ -139,40 +139,22 @@ pub fn run(
             ]
         })
         .collect();
-    Ok(MapResult {
-        flat_torus: None,
-        refined: None,
-        objective: None,
-        method: "dem",
+    let mut result = MapResult::new(
+        "dem",
         positions,
         initial,
-        converged: out.stop_reason != super::StopReason::MaxIter,
-        stop_reason: out.stop_reason,
-        iterations: out.iterations,
-        history: out.history,
-        time_init,
-        time_map: t1.elapsed().as_secs_f64(),
-        notes,
-    })
-}
-
-pub(crate) fn check_config_values(epsilon: f64, dt: Option<f64>, max_iter: usize) -> Result<()> {
-    if !(epsilon > 0.0 && epsilon.is_finite()) {
-        return Err(Error::Argument(format!(
-            "--epsilon must be positive, got {epsilon}"
-        )));
-    }
-    if let Some(dt) = dt.filter(|dt| !(*dt > 0.0 && dt.is_finite())) {
-        return Err(Error::Argument(format!("--dt must be positive, got {dt}")));
-    }
-    if max_iter == 0 {
-        return Err(Error::Argument("--max-iter must be at least 1".into()));
-    }
-    Ok(())
+        out.stop_reason,
+        out.iterations,
+        out.history,
+    );
+    result.time_init = time_init;
+    result.time_map = t1.elapsed().as_secs_f64();
+    result.notes = notes;
+    Ok(result)
 }
 
 fn check_config(c: &Config) -> Result<()> {
-    check_config_values(c.epsilon, c.dt, c.max_iter)?;
+    super::iteration::check_parameters(c.epsilon, c.dt, c.max_iter)?;
     if !(c.eta > 1.0) {
         return Err(Error::Argument(format!(
             "sea radius η must exceed 1, got {}",

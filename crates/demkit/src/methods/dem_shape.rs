@@ -4,8 +4,8 @@
 //! DEM. The result stays in the shape's own coordinates (no final rescale), so the boundary lies
 //! exactly on the prescribed curve.
 
-use super::dem::check_config_values;
 use super::disk_input::disk_boundary;
+use super::iteration::check_parameters;
 use super::planar_diffusion::{self, Problem};
 use super::{MapResult, ProgressFn};
 use crate::geometry::signed_areas_2d;
@@ -50,7 +50,7 @@ pub fn run(
     config: &Config,
     progress: ProgressFn,
 ) -> Result<MapResult> {
-    check_config_values(config.epsilon, config.dt, config.max_iter)?;
+    check_parameters(config.epsilon, config.dt, config.max_iter)?;
     let t0 = Instant::now();
     let boundary = disk_boundary(mesh, population, "dem-shape")?;
     let faces = &mesh.faces;
@@ -74,7 +74,7 @@ pub fn run(
         .position(|&a| !(a > 0.0))
     {
         return Err(Error::Numerical(format!(
-            "the initial map onto the shape is degenerate at face {f}; try --shape disk or ellipse"
+            "the initial map onto the shape is degenerate at face {f}; try the shape disk or ellipse"
         )));
     }
     let time_init = t0.elapsed().as_secs_f64();
@@ -95,21 +95,17 @@ pub fn run(
         patience: config.patience,
     };
     let out = planar_diffusion::run(&problem, initial.clone(), progress)?;
-    Ok(MapResult {
-        flat_torus: None,
-        refined: None,
-        objective: None,
-        method: "dem-shape",
-        positions: out.positions,
+    let mut result = MapResult::new(
+        "dem-shape",
+        out.positions,
         initial,
-        converged: out.stop_reason != super::StopReason::MaxIter,
-        stop_reason: out.stop_reason,
-        iterations: out.iterations,
-        history: out.history,
-        time_init,
-        time_map: t1.elapsed().as_secs_f64(),
-        notes: Vec::new(),
-    })
+        out.stop_reason,
+        out.iterations,
+        out.history,
+    );
+    result.time_init = time_init;
+    result.time_map = t1.elapsed().as_secs_f64();
+    Ok(result)
 }
 
 /// The corners of a shape with straight sides, counter-clockwise, starting after the positive
@@ -164,7 +160,7 @@ fn shape_boundary(
         return Err(Error::Topology {
             method: "dem-shape".into(),
             msg: format!(
-                "the boundary has {} vertices with a single triangle (ears); a shape with straight sides can host at most 4, one per corner: use --shape disk or ellipse",
+                "the boundary has {} vertices with a single triangle (ears); a shape with straight sides can host at most 4, one per corner: use the shape disk or ellipse",
                 ears.len()
             ),
         });
@@ -212,7 +208,7 @@ fn shape_boundary(
     if !(rel[0] < rel[1] && rel[1] < rel[2] && rel[2] < rel[3]) {
         return Err(Error::Topology {
             method: "dem-shape".into(),
-            msg: "the boundary's ears cannot be placed at the shape's corners in order: use --shape disk or ellipse".into(),
+            msg: "the boundary's ears cannot be placed at the shape's corners in order: use the shape disk or ellipse".into(),
         });
     }
     let mut out = vec![[0.0; 2]; n];

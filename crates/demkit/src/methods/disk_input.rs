@@ -29,12 +29,3 @@ pub(crate) fn disk_boundary(mesh: &TriMesh, population: &[f64], method: &str) ->
     crate::population::check_population(population, mesh.n_faces())?;
     Ok(topo.boundary_loops.into_iter().next().unwrap_or_default())
 }
-
-/// (4.39): `δt = min(min ρ / mean ρ, mean ρ / max ρ) × Area`, from the initial vertex density.
-pub(crate) fn default_time_step(rho_v: &[f64], area: f64) -> f64 {
-    let n = rho_v.len() as f64;
-    let mean = rho_v.iter().sum::<f64>() / n;
-    let min = rho_v.iter().cloned().fold(f64::INFINITY, f64::min);
-    let max = rho_v.iter().cloned().fold(0.0, f64::max);
-    (min / mean).min(mean / max) * area
-}

@@ -17,13 +17,14 @@
 //! step of the Laplace–Beltrami term (3.29) with δt = 0.01 is unstable on fine meshes, and the
 //! implicit landmark term drags each landmark's neighbourhood along with it instead of pulling
 //! a single vertex through its neighbours. A map whose change keeps hovering above ε (over the
-//! last 20 iterations it never fell by 5%) stops as stationary.
+//! last 20 iterations its smallest value fell by less than 5%) stops as stationary. The loop is
+//! the shared one of [`super::iteration`], with a fixed step, returning the last map.
 
-use super::dem::check_config_values;
+use super::iteration::{Flow, Keep, Measured, Moved, Rules, Step, check_parameters, iterate};
 use super::sphere_density::SphereDiffusion;
 use super::sphere_input::{check_sphere_input, initial_sphere_map};
 use super::sphere_overlap::{OverlapCorrector, advance, tangential};
-use super::{MapResult, Progress, ProgressFn, StopReason};
+use super::{MapResult, ProgressFn};
 use crate::geometry::rotation::optimal_rotation;
 use crate::geometry::sphere::{mat_vec, normalize};
 use crate::geometry::{norm, sub};
@@ -45,8 +46,8 @@ pub struct Config {
     /// Time over which the density is diffused before its velocity is taken; 0 takes the
     /// velocity −∇ρ/ρ of the current (recoupled) density itself, as §3.2.1 states.
     pub diffusion_dt: f64,
-    /// Stationary stop: over the last `window` iterations ‖f_n − f_{n−1}‖∞ never fell below
-    /// `1 − min_progress` times its value `window` iterations before (the map only jitters).
+    /// Stationary stop: over the last `window` iterations the smallest ‖f_n − f_{n−1}‖∞ met
+    /// fell by less than the fraction `min_progress` (the map only jitters).
     pub window: usize,
     /// See `window`.
     pub min_progress: f64,
@@ -95,18 +96,14 @@ pub fn check_landmarks(landmarks: &[(usize, [f64; 3])], n_vertices: usize) -> Re
 }
 
 fn check_config(c: &Config) -> Result<()> {
-    check_config_values(c.epsilon, Some(c.dt), c.max_iter)?;
+    check_parameters(c.epsilon, Some(c.dt), c.max_iter)?;
     if !(c.diffusion_dt >= 0.0 && c.diffusion_dt.is_finite()) {
         return Err(Error::Argument(format!(
             "the diffusion time must be non-negative, got {}",
             c.diffusion_dt
         )));
     }
-    for (name, w) in [
-        ("--alpha", c.alpha),
-        ("--beta", c.beta),
-        ("--gamma", c.gamma),
-    ] {
+    for (name, w) in [("alpha", c.alpha), ("beta", c.beta), ("gamma", c.gamma)] {
         if !(w >= 0.0 && w.is_finite()) {
             return Err(Error::Argument(format!(
                 "{name} must be non-negative, got {w}"
@@ -135,48 +132,116 @@ pub fn run(
 
     let t1 = Instant::now();
     let faces = &mesh.faces;
-    let diffusion = SphereDiffusion::new(initial.len(), faces, population)?;
-    let corrector = OverlapCorrector::new(&initial, faces);
     let targets: Vec<[f64; 3]> = landmarks.iter().map(|l| normalize(l.1)).collect();
-    let landmark_penalty: Vec<(usize, f64)> = landmarks
-        .iter()
-        .map(|&(v, _)| (v, config.dt * config.gamma))
-        .collect();
-    let mut x = initial.clone();
-    let mut history = Vec::new();
-    let mut stop_reason = StopReason::MaxIter;
-    let mut iterations = 0;
-    for it in 1..=config.max_iter {
-        iterations = it;
-        let prev = x.clone();
+    let mut flow = LandmarkFlow {
+        diffusion: SphereDiffusion::new(initial.len(), faces, population)?,
+        corrector: OverlapCorrector::new(&initial, faces),
+        faces,
+        landmarks,
+        targets: &targets,
+        landmark_penalty: landmarks
+            .iter()
+            .map(|&(v, _)| (v, config.dt * config.gamma))
+            .collect(),
+        config,
+        change: f64::INFINITY,
+    };
+    let rules = Rules {
+        epsilon: config.epsilon,
+        max_iter: config.max_iter,
+        step: Step::Fixed(config.dt),
+        window: config.window,
+        min_gain: config.min_progress,
+        keep: Keep::Last,
+    };
+    let out = iterate(&mut flow, initial.clone(), &rules, progress)?;
+    let (x, stop_reason, iterations, history) =
+        (out.map, out.stop_reason, out.iterations, out.history);
+    // The rotation that would start the next iteration: it only lowers the landmark energy.
+    let current: Vec<[f64; 3]> = landmarks.iter().map(|l| x[l.0]).collect();
+    let r = optimal_rotation(&current, &targets);
+    let positions = x.into_iter().map(|p| normalize(mat_vec(&r, p))).collect();
+    let mut result = MapResult::new(
+        "lsdem",
+        positions,
+        initial,
+        stop_reason,
+        iterations,
+        history,
+    );
+    result.time_init = time_init;
+    result.time_map = t1.elapsed().as_secs_f64();
+    result.notes = notes;
+    Ok(result)
+}
+
+/// LSDEM's descent (Alg. 3.2 lines 3–9) on the shared skeleton. Its stopping quantity is the
+/// change the last move made, ‖f_n − f_{n−1}‖∞ (infinite before the first move).
+struct LandmarkFlow<'a> {
+    diffusion: SphereDiffusion<'a>,
+    corrector: OverlapCorrector,
+    faces: &'a [[u32; 3]],
+    landmarks: &'a [(usize, [f64; 3])],
+    /// The landmarks' targets, on the unit sphere.
+    targets: &'a [[f64; 3]],
+    /// (vertex, δt γ) of every landmark: the landmark term of the implicit system.
+    landmark_penalty: Vec<(usize, f64)>,
+    config: &'a Config,
+    /// ‖f_n − f_{n−1}‖∞ of the last move.
+    change: f64,
+}
+
+impl Flow for LandmarkFlow<'_> {
+    type Map = Vec<[f64; 3]>;
+    type Data = ();
+
+    fn measure(&mut self, _x: &Vec<[f64; 3]>) -> Result<Measured<()>> {
+        Ok(Measured {
+            error: self.change,
+            merit: self.change,
+            data: (),
+        })
+    }
+
+    /// The rotation (§3.2.2), the semi-implicit descent step of length `dt` (3.27)–(3.33) and
+    /// the overlap correction.
+    fn advance(
+        &mut self,
+        prev: &Vec<[f64; 3]>,
+        _m: &Measured<()>,
+        dt: f64,
+    ) -> Result<Moved<Vec<[f64; 3]>>> {
+        let config = self.config;
         // §3.2.2: the optimal rotation.
-        let current: Vec<[f64; 3]> = landmarks.iter().map(|l| x[l.0]).collect();
-        let r = optimal_rotation(&current, &targets);
-        x.par_iter_mut()
-            .for_each(|p| *p = normalize(mat_vec(&r, *p)));
+        let current: Vec<[f64; 3]> = self.landmarks.iter().map(|l| prev[l.0]).collect();
+        let r = optimal_rotation(&current, self.targets);
+        let mut x: Vec<[f64; 3]> = prev
+            .par_iter()
+            .map(|p| normalize(mat_vec(&r, *p)))
+            .collect();
         // (3.27)–(3.32): the descent direction.
-        let d = diffusion.measure(&x);
-        let v = diffusion.velocity(&x, &d, config.diffusion_dt)?;
+        let d = self.diffusion.measure(&x);
+        let v = self.diffusion.velocity(&x, &d, config.diffusion_dt)?;
         // Semi-implicit step: the density term explicit, the harmonic and landmark terms
         // implicit, f_new = argmin ½|f − f*|²_A + ½δtβ fᵀLf + ½δtγ Σ|f(p_i) − q_i|², i.e.
         // (A + δtβ L + δtγ C) f_new = A f* + δtγ C q with f* = f + δt α ṽ.
-        let system = diffusion.operator().factor(
+        let system = self.diffusion.operator().factor(
             &x,
             &d.areas,
-            config.dt * config.beta,
-            &landmark_penalty,
+            dt * config.beta,
+            &self.landmark_penalty,
         )?;
         let (factor, mass) = (&system.factor, &system.mass);
         let n = x.len();
         let mut rhs = vec![0.0; 3 * n];
         for i in 0..n {
             for k in 0..3 {
-                rhs[k * n + i] = mass[i] * (x[i][k] + config.dt * config.alpha * v[i][k]);
+                rhs[k * n + i] = mass[i] * (x[i][k] + dt * config.alpha * v[i][k]);
             }
         }
-        for (&(vtx, _), q) in landmarks.iter().zip(&targets) {
+        for (&(vtx, _), q) in self.landmarks.iter().zip(self.targets) {
             for k in 0..3 {
-                rhs[k * n + vtx] += config.dt * config.gamma * q[k];
+                rhs[k * n + vtx] += dt * config.gamma * q[k];
             }
         }
         factor.solve_many_in_place(&mut rhs, 3);
@@ -189,53 +254,17 @@ pub fn run(
             .collect();
         // (3.33), overlap correction, recoupling (the density is re-derived from the map at the
         // start of every iteration).
-        advance(&mut x, &step, faces, &corrector);
-        let change = x
+        let outcome = advance(&mut x, &step, self.faces, &self.corrector);
+        self.change = x
             .par_iter()
             .zip(prev.par_iter())
             .map(|(a, b)| (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f64>())
             .reduce(|| 0.0, f64::max);
-        history.push(change);
-        progress(Progress {
-            iteration: it,
-            max_iter: config.max_iter,
-            error: change,
-        });
-        if change < config.epsilon {
-            stop_reason = StopReason::Tolerance;
-            break;
-        }
-        let h = history.len();
-        if h > config.window {
-            let recent = history[h - config.window..]
-                .iter()
-                .cloned()
-                .fold(f64::INFINITY, f64::min);
-            if recent > (1.0 - config.min_progress) * history[h - 1 - config.window] {
-                stop_reason = StopReason::Stationary;
-                break;
-            }
-        }
+        Ok(Moved {
+            map: x,
+            fraction: outcome.fraction,
+        })
     }
-    // The rotation that would start the next iteration: it only lowers the landmark energy.
-    let current: Vec<[f64; 3]> = landmarks.iter().map(|l| x[l.0]).collect();
-    let r = optimal_rotation(&current, &targets);
-    let positions = x.into_iter().map(|p| normalize(mat_vec(&r, p))).collect();
-    Ok(MapResult {
-        flat_torus: None,
-        refined: None,
-        objective: None,
-        method: "lsdem",
-        positions,
-        initial,
-        converged: stop_reason != StopReason::MaxIter,
-        stop_reason,
-        iterations,
-        history,
-        time_init,
-        time_map: t1.elapsed().as_secs_f64(),
-        notes,
-    })
 }
 
 #[cfg(test)]

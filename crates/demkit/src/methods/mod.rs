@@ -6,6 +6,7 @@ pub mod dem;
 pub mod dem_shape;
 pub mod deq;
 mod disk_input;
+mod iteration;
 pub mod ldeq;
 pub mod lsdem;
 mod planar_diffusion;
@@ -141,6 +142,34 @@ pub struct RefinedSurface {
 }
 
 impl MapResult {
+    /// The map of `method` from `initial` to `positions`, stopped for `stop_reason` after
+    /// `iterations` with the stopping quantity's `history`: converged unless the limit ran out;
+    /// no times, notes or extras yet (the method fills in what it has).
+    pub(crate) fn new(
+        method: &'static str,
+        positions: Vec<[f64; 3]>,
+        initial: Vec<[f64; 3]>,
+        stop_reason: StopReason,
+        iterations: usize,
+        history: Vec<f64>,
+    ) -> Self {
+        Self {
+            method,
+            positions,
+            initial,
+            converged: stop_reason != StopReason::MaxIter,
+            stop_reason,
+            iterations,
+            history,
+            time_init: 0.0,
+            time_map: 0.0,
+            notes: Vec::new(),
+            flat_torus: None,
+            refined: None,
+            objective: None,
+        }
+    }
+
     /// Makes `converged` honest: a run its method calls converged is not (stop reason
     /// `max_iter`, the reason in the notes) when it left the density as it was
     /// ([`crate::metrics::barely_moved`] of its `metrics`; for a method with its own

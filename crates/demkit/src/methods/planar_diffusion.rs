@@ -8,7 +8,7 @@
 //!   shortened uniformly ([`safe_update`]), which never flips a triangle (§7.3 asks for
 //!   exactly such a safeguard).
 
-use super::disk_input::default_time_step;
+use super::iteration::{Flow, Keep, Measured, Moved, Rules, Step, diffusion_time_step, iterate};
 use super::{Progress, StopReason};
 use crate::Result;
 use crate::fem::{DiffusionOperator, VertexFaces, face_gradient_into};
@@ -105,9 +105,6 @@ const SMOOTHING_AREA: f64 = 1.0 / 400.0;
 /// the map counts as stationary.
 const STATIONARY_GAIN: f64 = 0.02;
 
-/// How much longer than the last successful move the next step may be.
-const STEP_GROWTH: f64 = 2.0;
-
 /// The result of the iteration.
 pub(crate) struct Outcome {
     /// The best map met (lowest density error), all vertices.
@@ -117,19 +114,108 @@ pub(crate) struct Outcome {
     pub stop_reason: StopReason,
 }
 
-/// The state of the map the iteration measures after every step.
-struct Measure {
+/// The recoupled density of a planar map, as the flow measures it.
+pub(crate) struct Density {
     /// Current face areas (all faces).
     areas: Vec<f64>,
     /// Recoupled vertex density (4.27) of the current map (all vertices).
     rho_v: Vec<f64>,
-    /// sd/mean of `rho_v` over the ROI (the stop quantity).
-    sd_over_mean: f64,
-    /// Mean |log((A/ΣA)/(P/ΣP))| over the ROI faces.
-    error: f64,
 }
 
-/// Runs the iteration from the flip-free map `r` (z = 0).
+/// The planar density-equalizing flow of a [`Problem`] (see [`run`]).
+struct PlanarFlow<'p, 'a> {
+    problem: &'p Problem<'a>,
+    /// ROI vertices average over ROI faces only, sea vertices over sea faces only.
+    incidence: VertexFaces,
+    incidence_all: VertexFaces,
+    diffusion: DiffusionOperator,
+    grad_f: Vec<[f64; 3]>,
+    total_population: f64,
+}
+
+impl Flow for PlanarFlow<'_, '_> {
+    type Map = Vec<[f64; 3]>;
+    type Data = Density;
+
+    /// The stopping quantity is sd/mean of the recoupled ROI vertex density; maps are compared
+    /// by the mean |log((A/ΣA)/(P/ΣP))| over the ROI faces.
+    fn measure(&mut self, r: &Vec<[f64; 3]>) -> Result<Measured<Density>> {
+        let p = self.problem;
+        let (nv, nf) = (p.n_roi_vertices, p.n_roi_faces);
+        let areas = face_areas(r, p.faces);
+        let rho_f: Vec<f64> = p
+            .population
+            .iter()
+            .zip(&areas)
+            .map(|(p, a)| p / a)
+            .collect();
+        let rho_v = self.incidence.average(&rho_f);
+        let sd_over_mean = normalized_variance(&rho_v[..nv]).sqrt();
+        let roi_area: f64 = areas[..nf].iter().sum();
+        let merit = p.population[..nf]
+            .iter()
+            .zip(&areas[..nf])
+            .map(|(p, a)| ((a / roi_area) / (p / self.total_population)).ln().abs())
+            .sum::<f64>()
+            / nf as f64;
+        Ok(Measured {
+            error: sd_over_mean,
+            merit,
+            data: Density { areas, rho_v },
+        })
+    }
+
+    /// δt of (4.39) for the current ROI density.
+    fn step_cap(&self, m: &Measured<Density>) -> f64 {
+        let (nv, nf) = (self.problem.n_roi_vertices, self.problem.n_roi_faces);
+        let roi_area: f64 = m.data.areas[..nf].iter().sum();
+        diffusion_time_step(&m.data.rho_v[..nv], roi_area)
+    }
+
+    fn advance(
+        &mut self,
+        r: &Vec<[f64; 3]>,
+        m: &Measured<Density>,
+        dt: f64,
+    ) -> Result<Moved<Vec<[f64; 3]>>> {
+        let problem = self.problem;
+        let (n, nf) = (r.len(), problem.n_roi_faces);
+        let Density { areas, rho_v } = &m.data;
+        let roi_area: f64 = areas[..nf].iter().sum();
+        let smoothing_time = dt
+            .min(SMOOTHING_FACES * roi_area / nf as f64)
+            .min(SMOOTHING_AREA * roi_area);
+
+        // Diffusion (4.34): (A + T L) ρ̃ = A ρ.
+        let step_operator = self.diffusion.factor(r, areas, smoothing_time, &[])?;
+        let rho = step_operator.diffuse(rho_v);
+        let mass = &step_operator.mass;
+
+        // Velocity −∇ρ̃/ρ̃ by (4.37) and W^FV (3.4), smoothed with the same factor.
+        face_gradient_into(r, problem.faces, &rho, &mut self.grad_f);
+        let grad_v = self.incidence_all.apply_vec(areas, &self.grad_f);
+        let mut velocity = vec![0.0; 2 * n];
+        for (i, (g, p)) in grad_v.iter().zip(&rho).enumerate() {
+            velocity[i] = -mass[i] * g[0] / p;
+            velocity[n + i] = -mass[i] * g[1] / p;
+        }
+        step_operator.factor.solve_many_in_place(&mut velocity, 2);
+        let mut step: Vec<[f64; 2]> = (0..n)
+            .map(|i| [dt * velocity[i], dt * velocity[n + i]])
+            .collect();
+        problem.constraint.admissible_step(r, &mut step);
+        let mut moved = r.clone();
+        let tau = safe_update(problem, &mut moved, &step);
+        problem.constraint.regularize(&mut moved, tau * dt);
+        Ok(Moved {
+            map: moved,
+            fraction: tau,
+        })
+    }
+}
+
+/// Runs the iteration from the flip-free map `r` (z = 0) on the shared skeleton
+/// ([`iterate`]).
 ///
 /// Each iteration is one step of Alg. 5 lines 11–16 on the recoupled density:
 /// 1. `ρ_F = P / A` on the current map, interpolated at the vertices by (4.27) — every face
@@ -144,14 +230,13 @@ struct Measure {
 /// 4. the move `r ← r + h v̄`, shortened where it would squeeze a triangle more than halfway
 ///    to collapse ([`safe_update`]).
 ///
-/// The step `h`: with a fixed `dt`, `h = dt`. Otherwise `h` starts at δt of (4.39) and adapts:
-/// after a move that lowered the density error, `h = min(δt(4.39), 2 × the move's length)`;
-/// after one that did not, the move is undone and `h` is halved. The iteration stops at
-/// sd/mean < ε (tolerance) or when the best error has improved by less than
+/// The step `h`: with a fixed `dt`, `h = dt`. Otherwise adaptive, capped by δt of (4.39) for
+/// the current density, and judged on the density error (the mean |log| area misfit). The
+/// iteration stops at sd/mean < ε (tolerance) or when the best error has improved by less than
 /// [`STATIONARY_GAIN`] over the last `patience` iterations (stationary).
 pub(crate) fn run(
     problem: &Problem,
-    mut r: Vec<[f64; 3]>,
+    r: Vec<[f64; 3]>,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Outcome> {
     let n = r.len();
@@ -159,127 +244,28 @@ pub(crate) fn run(
     let (nv, nf) = (problem.n_roi_vertices, problem.n_roi_faces);
     // ROI vertices average over ROI faces only, sea vertices over sea faces only (DEM §4.3:
     // the density at the ROI boundary must not be blurred by the sea).
-    let incidence = VertexFaces::new_filtered(n, faces, |v, f| (v < nv) == (f < nf));
-    let incidence_all = VertexFaces::new(n, faces);
-    let diffusion = DiffusionOperator::new(n, faces)?;
-    let mut grad_f = Vec::new();
-    let total_population: f64 = problem.population[..nf].iter().sum();
-
-    let measure = |r: &[[f64; 3]]| -> Measure {
-        let areas = face_areas(r, faces);
-        let rho_f: Vec<f64> = problem
-            .population
-            .iter()
-            .zip(&areas)
-            .map(|(p, a)| p / a)
-            .collect();
-        let rho_v = incidence.average(&rho_f);
-        let sd_over_mean = normalized_variance(&rho_v[..nv]).sqrt();
-        let roi_area: f64 = areas[..nf].iter().sum();
-        let error = problem.population[..nf]
-            .iter()
-            .zip(&areas[..nf])
-            .map(|(p, a)| ((a / roi_area) / (p / total_population)).ln().abs())
-            .sum::<f64>()
-            / nf as f64;
-        Measure {
-            areas,
-            rho_v,
-            sd_over_mean,
-            error,
-        }
+    let mut flow = PlanarFlow {
+        problem,
+        incidence: VertexFaces::new_filtered(n, faces, |v, f| (v < nv) == (f < nf)),
+        incidence_all: VertexFaces::new(n, faces),
+        diffusion: DiffusionOperator::new(n, faces)?,
+        grad_f: Vec::new(),
+        total_population: problem.population[..nf].iter().sum(),
     };
-
-    let mut m = measure(&r);
-    let mut history = Vec::new();
-    let mut best = (m.error, r.clone());
-    let mut best_history = vec![best.0];
-    if m.sd_over_mean < problem.epsilon {
-        return Ok(Outcome {
-            positions: r,
-            iterations: 0,
-            history,
-            stop_reason: StopReason::Tolerance,
-        });
-    }
-    let mut stop_reason = StopReason::MaxIter;
-    let mut iterations = 0;
-    // The next step's upper bound from the previous move (none before the first).
-    let mut next_step: Option<f64> = None;
-    for it in 1..=problem.max_iter {
-        iterations = it;
-        let roi_area: f64 = m.areas[..nf].iter().sum();
-        let dt = match (problem.dt, next_step) {
-            (Some(dt), _) => dt,
-            (None, None) => default_time_step(&m.rho_v[..nv], roi_area),
-            (None, Some(h)) => h.min(default_time_step(&m.rho_v[..nv], roi_area)),
-        };
-        let smoothing_time = dt
-            .min(SMOOTHING_FACES * roi_area / nf as f64)
-            .min(SMOOTHING_AREA * roi_area);
-
-        // Diffusion (4.34): (A + T L) ρ̃ = A ρ.
-        let step_operator = diffusion.factor(&r, &m.areas, smoothing_time, &[])?;
-        let rho = step_operator.diffuse(&m.rho_v);
-        let mass = &step_operator.mass;
-
-        // Velocity −∇ρ̃/ρ̃ by (4.37) and W^FV (3.4), smoothed with the same factor.
-        face_gradient_into(&r, faces, &rho, &mut grad_f);
-        let grad_v = incidence_all.apply_vec(&m.areas, &grad_f);
-        let mut velocity = vec![0.0; 2 * n];
-        for (i, (g, p)) in grad_v.iter().zip(&rho).enumerate() {
-            velocity[i] = -mass[i] * g[0] / p;
-            velocity[n + i] = -mass[i] * g[1] / p;
-        }
-        step_operator.factor.solve_many_in_place(&mut velocity, 2);
-        let mut step: Vec<[f64; 2]> = (0..n)
-            .map(|i| [dt * velocity[i], dt * velocity[n + i]])
-            .collect();
-        problem.constraint.admissible_step(&r, &mut step);
-        let tau = safe_update(problem, &mut r, &step);
-        problem.constraint.regularize(&mut r, tau * dt);
-
-        let previous_error = m.error;
-        m = measure(&r);
-        let improved = m.error < previous_error;
-        if problem.dt.is_none() {
-            if improved {
-                next_step = Some(STEP_GROWTH * tau * dt);
-            } else {
-                // Undo the move and retry shorter.
-                next_step = Some(0.5 * tau * dt);
-                r.clone_from(&best.1);
-                m = measure(&r);
-            }
-        }
-        history.push(m.sd_over_mean);
-        progress(Progress {
-            iteration: it,
-            max_iter: problem.max_iter,
-            error: m.sd_over_mean,
-        });
-        if m.error < best.0 {
-            best = (m.error, r.clone());
-        }
-        best_history.push(best.0);
-        if m.sd_over_mean < problem.epsilon {
-            stop_reason = StopReason::Tolerance;
-            best.1 = r.clone();
-            break;
-        }
-        let k = best_history.len();
-        if k > problem.patience
-            && best.0 > (1.0 - STATIONARY_GAIN) * best_history[k - 1 - problem.patience]
-        {
-            stop_reason = StopReason::Stationary;
-            break;
-        }
-    }
+    let rules = Rules {
+        epsilon: problem.epsilon,
+        max_iter: problem.max_iter,
+        step: problem.dt.map_or(Step::Adaptive, Step::Fixed),
+        window: problem.patience,
+        min_gain: STATIONARY_GAIN,
+        keep: Keep::Best,
+    };
+    let out = iterate(&mut flow, r, &rules, progress)?;
     Ok(Outcome {
-        positions: best.1,
-        iterations,
-        history,
-        stop_reason,
+        positions: out.map,
+        iterations: out.iterations,
+        history: out.history,
+        stop_reason: out.stop_reason,
     })
 }
 

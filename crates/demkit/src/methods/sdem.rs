@@ -15,15 +15,15 @@
 //!
 //! The sign of (3.14) is the one that moves vertices along the velocity −∇ρ/ρ, from dense to
 //! sparse regions (as in (2.4) and (3.3)). When the density stops improving before ε is met
-//! (over the last 10 iterations sd/mean fell by less than 6%: the discrete map cannot
-//! equalize further at a useful pace) the iteration stops as stationary and returns the best
-//! map met.
+//! (over the last 10 iterations the best sd/mean fell by less than 6%: the discrete map
+//! cannot equalize further at a useful pace) the iteration stops as stationary and returns the
+//! best map met. The loop itself is the shared one of [`super::iteration`].
 
-use super::dem::check_config_values;
-use super::sphere_density::SphereDiffusion;
+use super::iteration::{Flow, Keep, Measured, Moved, Rules, Step, check_parameters, iterate};
+use super::sphere_density::{Density, SphereDiffusion};
 use super::sphere_input::{check_sphere_input, initial_sphere_map};
 use super::sphere_overlap::{OverlapCorrector, advance};
-use super::{MapResult, Progress, ProgressFn, StopReason};
+use super::{MapResult, ProgressFn};
 use crate::geometry::sphere::normalize;
 use crate::{Error, Result, TriMesh};
 use std::time::Instant;
@@ -37,7 +37,7 @@ pub struct Config {
     pub max_iter: usize,
     /// Time step δt (paper: 0.1).
     pub dt: f64,
-    /// Stationary stop: the iteration stops when, over the last `window` iterations, the
+    /// Stationary stop: the iteration stops when, over the last `window` iterations, the best
     /// stopping quantity fell by less than the fraction `min_progress` (at that pace ε is out
     /// of reach within the iteration budget).
     pub window: usize,
@@ -65,7 +65,7 @@ pub fn run(
     config: &Config,
     progress: ProgressFn,
 ) -> Result<MapResult> {
-    check_config_values(config.epsilon, Some(config.dt), config.max_iter)?;
+    check_parameters(config.epsilon, Some(config.dt), config.max_iter)?;
     check_sphere_input(mesh, population, "sdem")?;
     let t0 = Instant::now();
     let mut notes = Vec::new();
@@ -94,7 +94,7 @@ pub fn run_from(
     config: &Config,
     progress: ProgressFn,
 ) -> Result<MapResult> {
-    check_config_values(config.epsilon, Some(config.dt), config.max_iter)?;
+    check_parameters(config.epsilon, Some(config.dt), config.max_iter)?;
     check_sphere_input(mesh, population, "sdem")?;
     if initial.len() != mesh.n_vertices()
         || crate::init::spherical_conformal::count_spherical_flips(&initial, &mesh.faces) > 0
@@ -106,83 +106,96 @@ pub fn run_from(
     let mut notes = Vec::new();
     let t1 = Instant::now();
     let faces = &mesh.faces;
-    let diffusion = SphereDiffusion::new(initial.len(), faces, population)?;
-    let corrector = OverlapCorrector::new(&initial, faces);
-    let mut x = initial.clone();
-    let mut d = diffusion.measure(&x);
-    let mut history = Vec::new();
-    let mut best = (d.sd_over_mean, x.clone());
-    let mut stop_reason = StopReason::MaxIter;
-    let mut iterations = 0;
-    let mut corrected = 0usize;
-    let mut diffusion_time = config.dt;
-    if d.sd_over_mean < config.epsilon {
-        stop_reason = StopReason::Tolerance;
-    } else {
-        for it in 1..=config.max_iter {
-            iterations = it;
-            let v = diffusion.velocity(&x, &d, diffusion_time)?;
-            let step: Vec<[f64; 3]> = v.iter().map(|s| s.map(|c| c * config.dt)).collect();
-            let outcome = advance(&mut x, &step, faces, &corrector);
-            // A step that had to be shortened to the fraction τ met a flow too steep to follow:
-            // the next velocity comes from a density diffused for δt/τ, which smooths the flow
-            // there; while steps stay very short (τ ≤ 1/8) the diffusion time keeps doubling
-            // (at most 20 δt); full steps halve it back towards δt.
-            diffusion_time = if outcome.fraction >= 1.0 {
-                (0.5 * diffusion_time).max(config.dt)
-            } else if outcome.fraction <= 0.125 {
-                (2.0 * diffusion_time)
-                    .max(config.dt / outcome.fraction.max(1e-3))
-                    .min(20.0 * config.dt)
-            } else {
-                (config.dt / outcome.fraction).min(20.0 * config.dt)
-            };
-            corrected += outcome.corrected as usize;
-            d = diffusion.measure(&x);
-            history.push(d.sd_over_mean);
-            progress(Progress {
-                iteration: it,
-                max_iter: config.max_iter,
-                error: d.sd_over_mean,
-            });
-            if d.sd_over_mean < best.0 {
-                best = (d.sd_over_mean, x.clone());
-            }
-            if d.sd_over_mean < config.epsilon {
-                stop_reason = StopReason::Tolerance;
-                best.1 = x.clone();
-                break;
-            }
-            let stalled = history.len() > config.window
-                && best.0
-                    > (1.0 - config.min_progress) * history[history.len() - 1 - config.window];
-            if stalled || outcome.fraction == 0.0 {
-                stop_reason = StopReason::Stationary;
-                break;
-            }
-        }
-    }
-    if corrected > 0 {
+    let mut flow = SphereFlow {
+        diffusion: SphereDiffusion::new(initial.len(), faces, population)?,
+        corrector: OverlapCorrector::new(&initial, faces),
+        faces,
+        dt: config.dt,
+        diffusion_time: config.dt,
+        corrected: 0,
+    };
+    let rules = Rules {
+        epsilon: config.epsilon,
+        max_iter: config.max_iter,
+        step: Step::Fixed(config.dt),
+        window: config.window,
+        min_gain: config.min_progress,
+        keep: Keep::Best,
+    };
+    let out = iterate(&mut flow, initial.clone(), &rules, progress)?;
+    if flow.corrected > 0 {
         notes.push(format!(
-            "the overlap correction was applied in {corrected} iterations"
+            "the overlap correction was applied in {} iterations",
+            flow.corrected
         ));
     }
-    let positions = best.1.into_iter().map(normalize).collect();
-    Ok(MapResult {
-        flat_torus: None,
-        refined: None,
-        objective: None,
-        method: "sdem",
-        positions,
-        initial,
-        converged: stop_reason != StopReason::MaxIter,
-        stop_reason,
-        iterations,
-        history,
-        time_init: 0.0,
-        time_map: t1.elapsed().as_secs_f64(),
-        notes,
-    })
+    let (stop_reason, iterations, history) = (out.stop_reason, out.iterations, out.history);
+    let positions = out.map.into_iter().map(normalize).collect();
+    let mut result = MapResult::new("sdem", positions, initial, stop_reason, iterations, history);
+    result.time_map = t1.elapsed().as_secs_f64();
+    result.notes = notes;
+    Ok(result)
+}
+
+/// SDEM's flow (Alg. 3.1 lines 3–8) on the shared skeleton.
+struct SphereFlow<'a> {
+    diffusion: SphereDiffusion<'a>,
+    corrector: OverlapCorrector,
+    faces: &'a [[u32; 3]],
+    /// The time step δt.
+    dt: f64,
+    /// The time the density is diffused for before its velocity is taken (see the module
+    /// docs): δt, longer after shortened steps.
+    diffusion_time: f64,
+    /// Iterations in which the overlap correction was applied.
+    corrected: usize,
+}
+
+impl Flow for SphereFlow<'_> {
+    type Map = Vec<[f64; 3]>;
+    type Data = Density;
+
+    /// The recoupled density (3.22); sd/mean of ρ_V is both the stopping quantity and the merit.
+    fn measure(&mut self, x: &Vec<[f64; 3]>) -> Result<Measured<Density>> {
+        let d = self.diffusion.measure(x);
+        Ok(Measured {
+            error: d.sd_over_mean,
+            merit: d.sd_over_mean,
+            data: d,
+        })
+    }
+
+    /// (3.9)–(3.14) and the overlap correction: one move of length `h` along the velocity.
+    fn advance(
+        &mut self,
+        x: &Vec<[f64; 3]>,
+        m: &Measured<Density>,
+        h: f64,
+    ) -> Result<Moved<Vec<[f64; 3]>>> {
+        let v = self.diffusion.velocity(x, &m.data, self.diffusion_time)?;
+        let step: Vec<[f64; 3]> = v.iter().map(|s| s.map(|c| c * h)).collect();
+        let mut moved = x.clone();
+        let outcome = advance(&mut moved, &step, self.faces, &self.corrector);
+        // A step that had to be shortened to the fraction τ met a flow too steep to follow:
+        // the next velocity comes from a density diffused for δt/τ, which smooths the flow
+        // there; while steps stay very short (τ ≤ 1/8) the diffusion time keeps doubling
+        // (at most 20 δt); full steps halve it back towards δt.
+        let dt = self.dt;
+        self.diffusion_time = if outcome.fraction >= 1.0 {
+            (0.5 * self.diffusion_time).max(dt)
+        } else if outcome.fraction <= 0.125 {
+            (2.0 * self.diffusion_time)
+                .max(dt / outcome.fraction.max(1e-3))
+                .min(20.0 * dt)
+        } else {
+            (dt / outcome.fraction).min(20.0 * dt)
+        };
+        self.corrected += outcome.corrected as usize;
+        Ok(Moved {
+            map: moved,
+            fraction: outcome.fraction,
+        })
+    }
 }
 
 #[cfg(test)]
@@ -190,6 +203,7 @@ mod tests {
     use super::*;
     use crate::generate::icosphere;
     use crate::geometry::face_areas;
+    use crate::methods::StopReason;
     use crate::metrics::{Domain, compute};
 
     #[test]

@@ -14,19 +14,15 @@ pub fn run(mesh: &TriMesh, population: &[f64]) -> Result<MapResult> {
     let t0 = Instant::now();
     let mut notes = Vec::new();
     let map = initial_sphere_map(mesh, population, &mut notes)?;
-    Ok(MapResult {
-        flat_torus: None,
-        refined: None,
-        objective: None,
-        method: "spherical-conformal",
-        positions: map.clone(),
-        initial: map,
-        converged: true,
-        stop_reason: StopReason::Tolerance,
-        iterations: 0,
-        history: Vec::new(),
-        time_init: t0.elapsed().as_secs_f64(),
-        time_map: 0.0,
-        notes,
-    })
+    let mut result = MapResult::new(
+        "spherical-conformal",
+        map.clone(),
+        map,
+        StopReason::Tolerance,
+        0,
+        Vec::new(),
+    );
+    result.time_init = t0.elapsed().as_secs_f64();
+    result.notes = notes;
+    Ok(result)
 }

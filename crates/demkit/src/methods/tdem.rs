@@ -18,13 +18,15 @@
 //! Time step: the paper's fixed δt = 0.1 needs 23–228 iterations on its examples. A
 //! backward-Euler step of length δt damps a density mode of wavenumber k by `1/(1 + δt k²)`
 //! and the move cancels the fraction `δt k²/(1 + δt k²)` of it, so a long step cancels every
-//! mode at once — the iteration becomes a Newton-like one on the density. The step starts at
-//! the DEM paper's (4.39) for the area of the period rectangle and adapts: a move that does not
-//! lower sd/mean is undone and the step halved; after one that does, the step may double.
+//! mode at once — the iteration becomes a Newton-like one on the density. The step is the
+//! shared iteration's adaptive one ([`super::iteration`]), capped by the DEM paper's (4.39) for
+//! the current density on the period rectangle: a move that does not lower sd/mean is undone
+//! and the step halved; after one that does, the step may double.
 
-use super::dem::check_config_values;
+use super::iteration::check_parameters;
+use super::iteration::{Flow, Keep, Measured, Moved, Rules, Step, diffusion_time_step, iterate};
 use super::planar_diffusion::collapse_time;
-use super::{MapResult, Progress, ProgressFn, StopReason};
+use super::{MapResult, ProgressFn, StopReason};
 use crate::fem::{DiffusionOperator, UnfoldedFaces, VertexFaces, lumped_mass};
 use crate::geometry::face_areas;
 use crate::geometry::torus::{FlatTorusMap, Torus};
@@ -62,8 +64,12 @@ const TRUNCATION: f64 = 0.1;
 /// A vertex farther than this (times r) from the torus means the mesh is not on it.
 const ON_TORUS: f64 = 1e-6;
 
-/// Stop as stationary when the step has shrunk below this fraction of the first one.
-const SMALLEST_STEP: f64 = 1e-6;
+/// TDEM has no stationary window: it stops as stationary only when its adaptive step has
+/// vanished (docs/deviations.md, the shared iteration).
+const STATIONARY_WINDOW: usize = usize::MAX;
+
+/// See [`STATIONARY_WINDOW`] (unused without a window).
+const STATIONARY_GAIN: f64 = 0.0;
 
 /// Checks that `mesh` is a closed connected genus-one surface and `population` fits it.
 pub(crate) fn torus_input(mesh: &TriMesh, population: &[f64]) -> Result<()> {
@@ -114,7 +120,7 @@ pub fn run(
     config: &Config,
     progress: ProgressFn,
 ) -> Result<MapResult> {
-    check_config_values(config.epsilon, config.dt, config.max_iter)?;
+    check_parameters(config.epsilon, config.dt, config.max_iter)?;
     torus_input(mesh, population)?;
     let t0 = Instant::now();
     let initial = initial_map(mesh, torus)?;
@@ -124,15 +130,102 @@ pub fn run(
     Ok(result)
 }
 
-/// What the iteration measures on a flat map.
-struct Measure {
+/// What TDEM measures on a flat map.
+struct TorusDensity {
     unfolded: UnfoldedFaces,
     /// Planar face areas.
     areas: Vec<f64>,
     /// The modified density (11) at the vertices, W^FV with the planar areas (21).
     rho_v: Vec<f64>,
-    /// sd/mean of the density on the torus at the vertices (W^FV with the torus areas).
-    sd_over_mean: f64,
+}
+
+/// TDEM's flow (Alg. 1 lines 3–8) on the shared skeleton.
+struct TorusFlow<'a> {
+    faces: &'a [[u32; 3]],
+    population: &'a [f64],
+    torus: &'a Torus,
+    incidence: VertexFaces,
+    diffusion: DiffusionOperator,
+    lbs: PeriodicBeltramiSolver,
+    /// The initial map unfolded: the source of the overlap correction's Beltrami coefficients.
+    source: UnfoldedFaces,
+    /// What the moves had to do to stay unfolded, each said once.
+    notes: Vec<String>,
+}
+
+impl Flow for TorusFlow<'_> {
+    type Map = FlatTorusMap;
+    type Data = TorusDensity;
+
+    /// sd/mean of the density on the torus at the vertices (W^FV with the torus areas) is
+    /// both the stopping quantity and the merit.
+    fn measure(&mut self, map: &FlatTorusMap) -> Result<Measured<TorusDensity>> {
+        let period = self.torus.periods();
+        let unfolded = UnfoldedFaces::new(map, self.faces, period);
+        let areas = unfolded.signed_areas();
+        let torus_areas = face_areas(&map.on_torus(self.torus), self.faces);
+        let rho_f: Vec<f64> = self
+            .population
+            .iter()
+            .zip(&torus_areas)
+            .map(|(p, a)| p / a.max(f64::MIN_POSITIVE))
+            .collect();
+        let sd_over_mean = normalized_variance(&self.incidence.apply(&torus_areas, &rho_f)).sqrt();
+        Ok(Measured {
+            error: sd_over_mean,
+            merit: sd_over_mean,
+            data: TorusDensity {
+                rho_v: self.incidence.apply(&areas, &rho_f),
+                unfolded,
+                areas,
+            },
+        })
+    }
+
+    /// δt of (4.39) for the current density on the period rectangle.
+    fn step_cap(&self, m: &Measured<TorusDensity>) -> f64 {
+        let period = self.torus.periods();
+        diffusion_time_step(&m.data.rho_v, period[0] * period[1])
+    }
+
+    /// (16) `(A + h L) ρ̃ = A ρ̃` on the periodic plane, (19)–(22) the velocity, (23) the move,
+    /// kept unfolded by [`move_without_folds`].
+    fn advance(
+        &mut self,
+        map: &FlatTorusMap,
+        m: &Measured<TorusDensity>,
+        h: f64,
+    ) -> Result<Moved<FlatTorusMap>> {
+        let TorusDensity {
+            unfolded,
+            areas,
+            rho_v,
+        } = &m.data;
+        let (faces, n) = (self.faces, map.points.len());
+        let mass = lumped_mass(n, faces, areas);
+        let factor = self
+            .diffusion
+            .factor_weights(&unfolded.cotangent_weights(), mass, h, &[])?;
+        let rho = factor.diffuse(rho_v);
+        let grad = self
+            .incidence
+            .apply_vec(areas, &unfolded.gradient(faces, &rho));
+        let step: Vec<[f64; 2]> = grad
+            .iter()
+            .zip(&rho)
+            .map(|(g, r)| [-h * g[0] / r, -h * g[1] / r])
+            .collect();
+        let period = self.torus.periods();
+        let (moved, fraction, how) =
+            move_without_folds(map, unfolded, &step, faces, period, &self.source, &self.lbs)?;
+        if let Some(note) = how.filter(|n| !self.notes.contains(n)) {
+            self.notes.push(note);
+        }
+        Ok(Moved {
+            map: moved,
+            fraction,
+        })
+    }
 }
 
 /// Algorithm 1 from the flip-free flat map `initial`.
@@ -144,7 +237,7 @@ pub fn run_from(
     config: &Config,
     progress: ProgressFn,
 ) -> Result<MapResult> {
-    check_config_values(config.epsilon, config.dt, config.max_iter)?;
+    check_parameters(config.epsilon, config.dt, config.max_iter)?;
     torus_input(mesh, population)?;
     let faces = &mesh.faces[..];
     let n = mesh.n_vertices();
@@ -158,107 +251,45 @@ pub fn run_from(
         ));
     }
     let t1 = Instant::now();
-    let incidence = VertexFaces::new(n, faces);
-    let diffusion = DiffusionOperator::new(n, faces)?;
-    let lbs = PeriodicBeltramiSolver::new(n, faces)?;
-    let source = UnfoldedFaces::new(initial, faces, period);
-    let measure = |map: &FlatTorusMap| -> Measure {
-        let unfolded = UnfoldedFaces::new(map, faces, period);
-        let areas = unfolded.signed_areas();
-        let torus_areas = face_areas(&map.on_torus(torus), faces);
-        let rho_f: Vec<f64> = population
-            .iter()
-            .zip(&torus_areas)
-            .map(|(p, a)| p / a.max(f64::MIN_POSITIVE))
-            .collect();
-        let sd_over_mean = normalized_variance(&incidence.apply(&torus_areas, &rho_f)).sqrt();
-        Measure {
-            rho_v: incidence.apply(&areas, &rho_f),
-            unfolded,
-            areas,
-            sd_over_mean,
-        }
+    let mut flow = TorusFlow {
+        faces,
+        population,
+        torus,
+        incidence: VertexFaces::new(n, faces),
+        diffusion: DiffusionOperator::new(n, faces)?,
+        lbs: PeriodicBeltramiSolver::new(n, faces)?,
+        source: UnfoldedFaces::new(initial, faces, period),
+        notes: Vec::new(),
     };
-
-    let mut map = initial.clone();
-    let mut m = measure(&map);
-    let total_area = period[0] * period[1];
-    let longest = config
-        .dt
-        .unwrap_or_else(|| super::disk_input::default_time_step(&m.rho_v, total_area));
-    let mut h = longest;
-    let mut history = Vec::new();
-    let mut notes = Vec::new();
-    let mut stop_reason = StopReason::MaxIter;
-    let mut iterations = 0;
-    if m.sd_over_mean < config.epsilon {
-        stop_reason = StopReason::Tolerance;
-    }
-    while stop_reason == StopReason::MaxIter && iterations < config.max_iter {
-        iterations += 1;
-        // (16) (A + δt L) ρ̃ = A ρ̃ on the periodic plane; (19)–(22) the velocity.
-        let mass = lumped_mass(n, faces, &m.areas);
-        let factor = diffusion.factor_weights(&m.unfolded.cotangent_weights(), mass, h, &[])?;
-        let rho = factor.diffuse(&m.rho_v);
-        let grad = incidence.apply_vec(&m.areas, &m.unfolded.gradient(faces, &rho));
-        let step: Vec<[f64; 2]> = grad
-            .iter()
-            .zip(&rho)
-            .map(|(g, r)| [-h * g[0] / r, -h * g[1] / r])
-            .collect();
-        let (moved, fraction, how) =
-            move_without_folds(&map, &m.unfolded, &step, faces, period, &source, &lbs)?;
-        if let Some(note) = how.filter(|n| !notes.contains(n)) {
-            notes.push(note);
-        }
-        let next = measure(&moved);
-        if next.sd_over_mean < m.sd_over_mean {
-            map = moved;
-            m = next;
-            if config.dt.is_none() {
-                // A move shortened to a fraction of the step says the step was that much too
-                // long: the next one starts from twice the distance actually moved.
-                h = (2.0 * fraction * h).min(longest);
-            }
-        } else if config.dt.is_none() {
-            h *= 0.5;
-        } else {
-            // A fixed step that no longer helps: the map is as good as this step makes it.
-            stop_reason = StopReason::Stationary;
-        }
-        history.push(m.sd_over_mean);
-        progress(Progress {
-            iteration: iterations,
-            max_iter: config.max_iter,
-            error: m.sd_over_mean,
-        });
-        if m.sd_over_mean < config.epsilon {
-            stop_reason = StopReason::Tolerance;
-        } else if h < SMALLEST_STEP * longest {
-            stop_reason = StopReason::Stationary;
-        }
-    }
-    if stop_reason == StopReason::Stationary {
+    let rules = Rules {
+        epsilon: config.epsilon,
+        max_iter: config.max_iter,
+        step: config.dt.map_or(Step::Adaptive, Step::Fixed),
+        window: STATIONARY_WINDOW,
+        min_gain: STATIONARY_GAIN,
+        keep: Keep::Best,
+    };
+    let out = iterate(&mut flow, initial.clone(), &rules, progress)?;
+    let mut notes = flow.notes;
+    if out.stop_reason == StopReason::Stationary {
         notes.push(format!(
-            "stopped after {iterations} iterations: no step lowered sd/mean of the density below {:.3e}",
-            m.sd_over_mean
+            "stopped after {} iterations: no step lowered sd/mean of the density below {:.3e}",
+            out.iterations,
+            out.history.iter().copied().fold(f64::INFINITY, f64::min)
         ));
     }
-    Ok(MapResult {
-        method: "tdem",
-        positions: map.on_torus(torus),
-        initial: initial.on_torus(torus),
-        converged: stop_reason != StopReason::MaxIter,
-        stop_reason,
-        iterations,
-        history,
-        time_init: 0.0,
-        time_map: t1.elapsed().as_secs_f64(),
-        notes,
-        flat_torus: Some(map),
-        refined: None,
-        objective: None,
-    })
+    let mut result = MapResult::new(
+        "tdem",
+        out.map.on_torus(torus),
+        initial.on_torus(torus),
+        out.stop_reason,
+        out.iterations,
+        out.history,
+    );
+    result.time_map = t1.elapsed().as_secs_f64();
+    result.notes = notes;
+    result.flat_torus = Some(out.map);
+    Ok(result)
 }
 
 /// The move `map + step` without folded faces: as it is if nothing folds; else rebuilt by the

@@ -160,14 +160,29 @@ fn through_coarse(
         &mut y,
     )?;
     let mut history = g.history;
-    history.extend(&local.history);
-    history.extend(&fine.history);
+    for stage in [&local.history, &fine.history] {
+        report(progress, &history, stage, config.max_iter);
+        history.extend(stage);
+    }
     Ok(Some(Equalized {
         positions: y,
         iterations: g.iterations + local.iterations + fine.iterations,
         history,
         converged: fine.converged,
     }))
+}
+
+/// Reports a minimisation's `stage` history (sd/mean of the vertex density, the quantity of the
+/// density-equalizing iteration before it) to `progress`, numbered after the `done` ones; the
+/// limit shown is the iterations done plus the minimisation's own limit.
+pub(super) fn report(progress: ProgressFn, done: &[f64], stage: &[f64], max_iter: usize) {
+    for (k, &error) in stage.iter().enumerate() {
+        progress(crate::methods::Progress {
+            iteration: done.len() + k + 1,
+            max_iter: done.len() + max_iter,
+            error,
+        });
+    }
 }
 
 /// The population per unit area of the surface.
@@ -252,13 +267,16 @@ pub(super) fn direct(
         max_iterations: LOG_STAGE_ITERATIONS,
         tolerance: LOG_STAGE_TOLERANCE,
     };
-    minimize(log_stage, &mut x)?;
+    let log = minimize(log_stage, &mut x)?;
     let fine = minimize(Stage::configured(config), &mut x)?;
     let mut history = flow.history;
-    history.extend(&fine.history);
+    for stage in [&log.history, &fine.history] {
+        report(progress, &history, stage, config.max_iter);
+        history.extend(stage);
+    }
     Ok(Equalized {
         positions: x,
-        iterations: flow.iterations + fine.iterations,
+        iterations: flow.iterations + log.iterations + fine.iterations,
         history,
         converged: fine.converged,
     })

@@ -133,10 +133,10 @@ pub(crate) fn fit_circle(x: &[[f64; 3]], lp: &[u32]) -> ([f64; 2], f64) {
 }
 
 pub(crate) fn check_config(c: &Config) -> Result<()> {
-    super::dem::check_config_values(c.epsilon, c.dt, c.max_iter)?;
+    super::iteration::check_parameters(c.epsilon, c.dt, c.max_iter)?;
     if !(c.alpha >= 0.0 && c.alpha.is_finite()) {
         return Err(Error::Argument(format!(
-            "--alpha must be zero or positive, got {}",
+            "alpha must be zero or positive, got {}",
             c.alpha
         )));
     }
@@ -276,8 +276,10 @@ fn chordless_map(
         })?;
         let last = minimize(Stage::configured(config), x)?;
         map.iterations += legs.iterations + last.iterations;
-        map.history.extend(&legs.history);
-        map.history.extend(&last.history);
+        for stage in [&legs.history, &last.history] {
+            equalize::report(progress, &map.history, stage, config.max_iter);
+            map.history.extend(stage);
+        }
         map.converged = last.converged;
         let missed: Vec<String> = landmarks
             .iter()
@@ -293,25 +295,24 @@ fn chordless_map(
             ));
         }
     }
-    Ok(MapResult {
-        flat_torus: None,
-        refined: None,
-        objective,
+    let stop_reason = if map.converged {
+        StopReason::Tolerance
+    } else {
+        StopReason::MaxIter
+    };
+    let mut result = MapResult::new(
         method,
-        positions: map.positions,
+        map.positions,
         initial,
-        converged: map.converged,
-        stop_reason: if map.converged {
-            StopReason::Tolerance
-        } else {
-            StopReason::MaxIter
-        },
-        iterations: map.iterations,
-        history: map.history,
-        time_init,
-        time_map: t1.elapsed().as_secs_f64(),
-        notes,
-    })
+        stop_reason,
+        map.iterations,
+        map.history,
+    );
+    result.objective = objective;
+    result.time_init = time_init;
+    result.time_map = t1.elapsed().as_secs_f64();
+    result.notes = notes;
+    Ok(result)
 }
 
 #[cfg(test)]

@@ -10,9 +10,12 @@
 use super::energy::{self, Face, Misfit};
 use super::parameters::Parameters;
 use crate::Result;
+use crate::fem::VertexFaces;
+use crate::geometry::face_areas;
 use crate::linalg::{ElementPattern, SpdSolver, packed_index};
 use crate::mesh::topology::{ring_distances, vertex_neighbours};
 use crate::methods::planar_diffusion::collapse_time;
+use crate::metrics::normalized_variance;
 use rayon::prelude::*;
 
 /// The smallest and largest Levenberg–Marquardt damping, as a fraction of the Hessian's mean
@@ -64,14 +67,36 @@ pub(crate) struct Problem<'a> {
 pub(crate) struct Outcome {
     /// Newton iterations done.
     pub iterations: usize,
-    /// The Newton decrement relative to the energy (the decrease a full step would make on the
-    /// quadratic model) at every iteration.
+    /// sd/mean of the vertex density after every iteration ([`density_spread`]): the quantity
+    /// the density-equalizing iteration records, so that DEQ's history and progress are one
+    /// quantity through every stage.
     pub history: Vec<f64>,
     /// True when the Newton decrement of a fresh, undamped Hessian fell below the tolerance
     /// (a damped one understates it: brain with six holes stopped at Var(ρ̃) 0.13 instead of
     /// 0.008), or no step could lower the energy at all (a minimum); false when the iteration
     /// limit ran out first.
     pub converged: bool,
+}
+
+/// sd/mean of the vertex density of the map `x` over the problem's faces: `P / A` of every face
+/// averaged at its vertices by the plain Whitney average (4.27), as the density-equalizing
+/// iteration measures it (`planar_diffusion`); vertices of no face are left out.
+pub(crate) fn density_spread(p: &Problem, incidence: &VertexFaces, x: &[[f64; 3]]) -> f64 {
+    let areas = face_areas(x, p.faces);
+    let rho_f: Vec<f64> = p
+        .population
+        .iter()
+        .zip(&areas)
+        .map(|(q, a)| q / a)
+        .collect();
+    let rho_v: Vec<f64> = incidence
+        .average(&rho_f)
+        .into_iter()
+        .enumerate()
+        .filter(|&(v, _)| !incidence.faces_of(v).is_empty())
+        .map(|(_, r)| r)
+        .collect();
+    normalized_variance(&rho_v).sqrt()
 }
 
 /// Every face's relative area target `Â/A_src` in the map `x`: its share of the population, of
@@ -236,6 +261,7 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
     let m = p.faces.len() as f64;
     let image = |x: &[[f64; 3]], f: &[u32; 3]| f.map(|v| [x[v as usize][0], x[v as usize][1]]);
 
+    let incidence = VertexFaces::new(x.len(), p.faces);
     // Built the first time a step is blocked (many minimisations never need it).
     let neighbours = std::cell::OnceCell::new();
     let mut target = targets(x);
@@ -345,7 +371,6 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
         let slope: f64 = step.iter().zip(&grad).map(|(s, g)| s * g).sum();
         // The Newton decrement: the decrease a full step would make on the quadratic model.
         let predicted = -0.5 * slope / current.abs().max(f64::MIN_POSITIVE);
-        outcome.history.push(predicted);
         if !(predicted > p.tolerance) || current <= NEGLIGIBLE_ENERGY {
             if (refactor && damping <= MIN_DAMPING) || current <= NEGLIGIBLE_ENERGY {
                 outcome.converged = true;
@@ -355,6 +380,7 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
             // with a fresh, undamped Hessian.
             stale = usize::MAX;
             damping = MIN_DAMPING;
+            outcome.history.push(density_spread(p, &incidence, x));
             continue;
         }
         // Start the line search short of the first collapse along the step (to first order).
@@ -440,6 +466,7 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
         current = energy(x, &target).unwrap_or(e);
         // Steps cut short by collapsing triangles can leave the decrement large while the
         // energy no longer falls: that is a minimum too.
+        outcome.history.push(density_spread(p, &incidence, x));
         recent.push_back(current);
         if recent.len() > STALL_ITERATIONS + 1 {
             recent.pop_front();
@@ -448,6 +475,10 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
             outcome.converged = true;
             break;
         }
+    }
+    // An iteration that ended the minimisation before moving records the map as it is.
+    if outcome.history.len() < outcome.iterations {
+        outcome.history.push(density_spread(p, &incidence, x));
     }
     Ok(outcome)
 }

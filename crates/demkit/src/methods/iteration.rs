@@ -1,0 +1,373 @@
+//! The density-equalizing iteration every method runs: one loop, with one step rule, one stop
+//! rule, best-map tracking, and one quantity in its history and its progress.
+//!
+//! A method supplies a [`Flow`]: how to measure a map (its stopping quantity and the merit by
+//! which maps are compared) and how to advance it by a step of a given length without folding
+//! it. [`iterate`] does the rest, by the [`Rules`] the method asks for:
+//!
+//! - **step** ([`Step`]): a fixed length, every move kept (the papers' explicit iterations); or
+//!   adaptive: the step starts at the flow's longest ([`Flow::step_cap`]), a move that does not
+//!   lower the merit is undone and the step halved, after one that does the next may be twice
+//!   as long as the move actually made (capped again by the flow);
+//! - **stop**: the stopping quantity below ε (tolerance); the best merit improved by less than
+//!   the fraction `min_gain` over the last `window` iterations, or a step that could not move
+//!   the map at all (stationary); the iteration limit (not converged);
+//! - **result** ([`Keep`]): the best map met, or the last one; a map that met the tolerance is
+//!   returned as it is.
+//!
+//! Which parameters differ between the methods, and why, is written down in
+//! `docs/deviations.md`.
+
+use super::{Progress, ProgressFn, StopReason};
+use crate::{Error, Result};
+
+/// What a flow measures on a map.
+#[derive(Debug, Clone)]
+pub(crate) struct Measured<D> {
+    /// The stopping quantity (compared with ε, recorded in the history, shown in progress).
+    pub error: f64,
+    /// What makes one map better than another (lower is better).
+    pub merit: f64,
+    /// Whatever else the flow needs from the measurement to take its next step.
+    pub data: D,
+}
+
+/// A move made by a flow.
+#[derive(Debug, Clone)]
+pub(crate) struct Moved<M> {
+    /// The map after the move (never folded).
+    pub map: M,
+    /// The fraction of the asked step actually taken (1 when nothing had to be shortened,
+    /// 0 when the map could not move).
+    pub fraction: f64,
+}
+
+/// A density-equalizing flow: the part of a method that differs from the others.
+pub(crate) trait Flow {
+    /// A map (positions on the plane, the sphere, the flat torus).
+    type Map: Clone;
+    /// What [`measure`](Self::measure) hands to [`advance`](Self::advance).
+    type Data;
+
+    /// Measures `map`.
+    fn measure(&mut self, map: &Self::Map) -> Result<Measured<Self::Data>>;
+
+    /// The longest step an adaptive iteration may take from a map measured as `m`.
+    fn step_cap(&self, _m: &Measured<Self::Data>) -> f64 {
+        f64::INFINITY
+    }
+
+    /// Advances `map`, measured as `m`, by a step of length `h` without folding it.
+    fn advance(
+        &mut self,
+        map: &Self::Map,
+        m: &Measured<Self::Data>,
+        h: f64,
+    ) -> Result<Moved<Self::Map>>;
+}
+
+/// How long the steps are.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Step {
+    /// Every step this long; every move is kept.
+    Fixed(f64),
+    /// Steps adapted to the flow (see the module docs).
+    Adaptive,
+}
+
+/// Which map the iteration returns when it does not meet the tolerance.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Keep {
+    /// The map of lowest merit met.
+    Best,
+    /// The last map.
+    Last,
+}
+
+/// The rules of one run of the iteration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Rules {
+    /// Stop when the stopping quantity falls below this.
+    pub epsilon: f64,
+    /// Iteration limit.
+    pub max_iter: usize,
+    /// The step rule.
+    pub step: Step,
+    /// Stationary: the best merit improved by less than `min_gain` (a fraction) over the last
+    /// `window` iterations.
+    pub window: usize,
+    /// See `window`.
+    pub min_gain: f64,
+    /// Which map to return.
+    pub keep: Keep,
+}
+
+/// After a move that lowered the merit, the next step may be this many times as long as the
+/// move made.
+const STEP_GROWTH: f64 = 2.0;
+
+/// After a move that did not lower the merit, the next step is this fraction of the move made.
+const STEP_SHRINK: f64 = 0.5;
+
+/// An adaptive iteration whose step has shrunk below this fraction of its first step has
+/// stopped moving: stationary.
+const SMALLEST_STEP: f64 = 1e-6;
+
+/// The outcome of an iteration.
+#[derive(Debug, Clone)]
+pub(crate) struct Outcome<M> {
+    /// The map returned ([`Keep`]).
+    pub map: M,
+    /// Iterations done.
+    pub iterations: usize,
+    /// The stopping quantity after each iteration.
+    pub history: Vec<f64>,
+    /// Why the iteration stopped.
+    pub stop_reason: StopReason,
+}
+
+/// Checks the parameters every method shares: ε positive, a fixed time step positive, at least
+/// one iteration. The messages name the parameters (`epsilon`, `dt`, `max_iter`).
+pub(crate) fn check_parameters(epsilon: f64, dt: Option<f64>, max_iter: usize) -> Result<()> {
+    if !(epsilon > 0.0 && epsilon.is_finite()) {
+        return Err(Error::Argument(format!(
+            "epsilon must be positive, got {epsilon}"
+        )));
+    }
+    if let Some(dt) = dt.filter(|dt| !(*dt > 0.0 && dt.is_finite())) {
+        return Err(Error::Argument(format!("dt must be positive, got {dt}")));
+    }
+    if max_iter == 0 {
+        return Err(Error::Argument("max_iter must be at least 1".into()));
+    }
+    Ok(())
+}
+
+/// (4.39) of the DEM paper: `δt = min(min ρ / mean ρ, mean ρ / max ρ) × Area`, the longest
+/// time step for the vertex density `rho_v` on a domain of area `area`.
+pub(crate) fn diffusion_time_step(rho_v: &[f64], area: f64) -> f64 {
+    let n = rho_v.len() as f64;
+    let mean = rho_v.iter().sum::<f64>() / n;
+    let min = rho_v.iter().cloned().fold(f64::INFINITY, f64::min);
+    let max = rho_v.iter().cloned().fold(0.0, f64::max);
+    (min / mean).min(mean / max) * area
+}
+
+/// Runs the density-equalizing iteration of `flow` from the flip-free map `initial` by `rules`
+/// (see the module docs), reporting the stopping quantity after every iteration to `progress`.
+pub(crate) fn iterate<F: Flow>(
+    flow: &mut F,
+    initial: F::Map,
+    rules: &Rules,
+    progress: ProgressFn,
+) -> Result<Outcome<F::Map>> {
+    let mut map = initial;
+    let mut m = flow.measure(&map)?;
+    let mut history = Vec::new();
+    if m.error < rules.epsilon {
+        return Ok(Outcome {
+            map,
+            iterations: 0,
+            history,
+            stop_reason: StopReason::Tolerance,
+        });
+    }
+    let mut best = (rules.keep == Keep::Best).then(|| (m.merit, map.clone()));
+    let mut best_merit = m.merit;
+    let mut best_history = vec![best_merit];
+    let first = match rules.step {
+        Step::Fixed(h) => h,
+        Step::Adaptive => flow.step_cap(&m),
+    };
+    let mut h = first;
+    let mut stop_reason = StopReason::MaxIter;
+    let mut iterations = 0;
+    for it in 1..=rules.max_iter {
+        iterations = it;
+        let asked = match rules.step {
+            Step::Fixed(h) => h,
+            Step::Adaptive => h.min(flow.step_cap(&m)),
+        };
+        let moved = flow.advance(&map, &m, asked)?;
+        let next = flow.measure(&moved.map)?;
+        match rules.step {
+            Step::Fixed(_) => {
+                map = moved.map;
+                m = next;
+            }
+            Step::Adaptive if next.merit < m.merit => {
+                map = moved.map;
+                m = next;
+                h = STEP_GROWTH * moved.fraction * asked;
+            }
+            Step::Adaptive => h = STEP_SHRINK * moved.fraction * asked,
+        }
+        history.push(m.error);
+        progress(Progress {
+            iteration: it,
+            max_iter: rules.max_iter,
+            error: m.error,
+        });
+        if m.error < rules.epsilon {
+            stop_reason = StopReason::Tolerance;
+            best = None;
+            break;
+        }
+        if m.merit < best_merit {
+            best_merit = m.merit;
+            if rules.keep == Keep::Best {
+                best = Some((m.merit, map.clone()));
+            }
+        }
+        best_history.push(best_merit);
+        let k = best_history.len();
+        let stalled = k > rules.window
+            && best_merit > (1.0 - rules.min_gain) * best_history[k - 1 - rules.window];
+        let stuck = match rules.step {
+            Step::Fixed(_) => moved.fraction == 0.0,
+            Step::Adaptive => !(h >= SMALLEST_STEP * first),
+        };
+        if stalled || stuck {
+            stop_reason = StopReason::Stationary;
+            break;
+        }
+    }
+    // The best map, unless the last one is (or is asked for).
+    if let Some((merit, best_map)) = best
+        && merit < m.merit
+    {
+        map = best_map;
+    }
+    Ok(Outcome {
+        map,
+        iterations,
+        history,
+        stop_reason,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scalar "map" x > 0 whose stopping quantity is |x − 1| (and so is its merit): the flow
+    /// moves it towards 1 by the fraction `h` of the distance, overshooting when `h > 1`.
+    struct Toward {
+        /// Fraction of an asked step actually taken.
+        fraction: f64,
+    }
+
+    impl Flow for Toward {
+        type Map = f64;
+        type Data = ();
+        fn measure(&mut self, x: &f64) -> Result<Measured<()>> {
+            Ok(Measured {
+                error: (x - 1.0).abs(),
+                merit: (x - 1.0).abs(),
+                data: (),
+            })
+        }
+        fn step_cap(&self, _m: &Measured<()>) -> f64 {
+            4.0
+        }
+        fn advance(&mut self, x: &f64, _m: &Measured<()>, h: f64) -> Result<Moved<f64>> {
+            let t = h * self.fraction;
+            Ok(Moved {
+                map: x + t * (1.0 - x),
+                fraction: self.fraction,
+            })
+        }
+    }
+
+    fn rules(step: Step) -> Rules {
+        Rules {
+            epsilon: 1e-6,
+            max_iter: 100,
+            step,
+            window: 5,
+            min_gain: 0.02,
+            keep: Keep::Best,
+        }
+    }
+
+    #[test]
+    fn a_fixed_step_contracts_geometrically_and_stops_at_the_tolerance() {
+        let mut flow = Toward { fraction: 1.0 };
+        let mut seen = Vec::new();
+        let out = iterate(&mut flow, 3.0, &rules(Step::Fixed(0.5)), &mut |p| {
+            seen.push(p.error)
+        })
+        .unwrap();
+        assert_eq!(out.stop_reason, StopReason::Tolerance);
+        // |x − 1| halves every step: 2 · 2^−k < 1e-6 first at k = 21.
+        assert_eq!(out.iterations, 21);
+        assert_eq!(out.history, seen);
+        assert!((out.history[0] - 1.0).abs() < 1e-15);
+        assert!((out.map - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn an_adaptive_step_undoes_overshoots_and_halves() {
+        // The cap 4 overshoots to x = 1 − 3·2 = −5 (worse): undone, the step halved to 2
+        // lands on −1 (worse again), then 1 lands exactly.
+        let mut flow = Toward { fraction: 1.0 };
+        let out = iterate(&mut flow, 3.0, &rules(Step::Adaptive), &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::Tolerance);
+        assert_eq!(out.iterations, 3);
+        assert_eq!(out.history, vec![2.0, 2.0, 0.0]);
+        assert_eq!(out.map, 1.0);
+    }
+
+    #[test]
+    fn a_flow_that_cannot_move_is_stationary_and_the_first_map_is_kept() {
+        let mut flow = Toward { fraction: 0.0 };
+        let out = iterate(&mut flow, 3.0, &rules(Step::Fixed(0.5)), &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::Stationary);
+        assert_eq!(out.iterations, 1);
+        assert_eq!(out.map, 3.0);
+        let out = iterate(&mut flow, 3.0, &rules(Step::Adaptive), &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::Stationary);
+        assert_eq!(out.map, 3.0);
+    }
+
+    #[test]
+    fn slow_progress_is_stationary_and_the_limit_is_not_converged() {
+        // 1 % of the distance per step: over 5 iterations the best improves by 4.9 %, less
+        // than the 6 % asked, so the run stalls after its fifth iteration.
+        let mut flow = Toward { fraction: 1.0 };
+        let slow = Rules {
+            min_gain: 0.06,
+            ..rules(Step::Fixed(0.01))
+        };
+        let out = iterate(&mut flow, 3.0, &slow, &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::Stationary);
+        assert_eq!(out.iterations, 5);
+        let limited = Rules {
+            max_iter: 3,
+            ..rules(Step::Fixed(0.01))
+        };
+        let out = iterate(&mut flow, 3.0, &limited, &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::MaxIter);
+        assert_eq!(out.iterations, 3);
+    }
+
+    #[test]
+    fn parameters_are_checked_by_name() {
+        assert!(check_parameters(1e-3, None, 10).is_ok());
+        let e = check_parameters(0.0, None, 10).unwrap_err().to_string();
+        assert!(e.contains("epsilon must be positive"), "{e}");
+        let e = check_parameters(1e-3, Some(f64::NAN), 10)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("dt must be positive"), "{e}");
+        let e = check_parameters(1e-3, None, 0).unwrap_err().to_string();
+        assert!(e.contains("max_iter must be at least 1"), "{e}");
+    }
+
+    #[test]
+    fn the_time_step_of_a_uniform_density_is_the_area() {
+        assert_eq!(diffusion_time_step(&[2.0; 5], 3.0), 3.0);
+        // min/mean = 0.5, mean/max = 2/3: the smaller.
+        assert!((diffusion_time_step(&[1.0, 2.0, 3.0], 1.0) - 0.5).abs() < 1e-15);
+    }
+}
