@@ -15,13 +15,13 @@
 //! ```
 
 use crate::geometry::torus::{FlatTorusMap, Torus};
-use crate::init::shape::Shape;
 use crate::methods::{
     MapResult, ProgressFn, circle_conformal, dem, dem_shape, deq, ldeq, lsdem, sdem,
     spherical_conformal, tdem,
 };
 use crate::metrics::Metrics;
 use crate::population::{PopulationSpec, face_populations_at_scale, unit_scale};
+use crate::shape::Shape;
 use crate::surface::Surface;
 use crate::{Error, Result, TriMesh};
 

@@ -26,6 +26,7 @@
 //! - [`linalg`]: sparse assembly over a fixed pattern and cached factorizations;
 //! - [`qc`]: Beltrami coefficients and the linear Beltrami solver;
 //! - [`init`]: initial maps (boundary flattening, Tutte, locally authalic, the sea);
+//! - [`shape`]: prescribed target shapes of the shape-prescribed DEM;
 //! - [`methods`]: the density-equalizing methods themselves;
 //! - [`metrics`]: the report metrics shared by every method;
 //! - [`population`]: populations from names, files and expressions;
@@ -51,6 +52,7 @@ pub mod methods;
 pub mod metrics;
 pub mod population;
 pub mod qc;
+pub mod shape;
 mod surface;
 #[cfg(test)]
 mod test_timing;
@@ -58,4 +60,5 @@ mod test_timing;
 pub use api::{Domain, Map, MapOptions, Method, Population, map, map_with_progress};
 pub use error::{Error, Result};
 pub use mesh::TriMesh;
+pub use shape::Shape;
 pub use surface::Surface;

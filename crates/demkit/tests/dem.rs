@@ -3,10 +3,10 @@
 
 use demkit::TriMesh;
 use demkit::generate::{gaussian, peaks, regular_polygon, square_grid};
-use demkit::init::shape::Shape;
 use demkit::methods::{MapResult, StopReason, dem, dem_shape};
 use demkit::metrics::{Domain, Metrics, compute};
 use demkit::population::{PopulationSpec, face_populations};
+use demkit::shape::Shape;
 
 fn run_dem(mesh: &TriMesh, population: &str) -> (MapResult, Metrics) {
     let pop = face_populations(&PopulationSpec::parse(population), mesh).unwrap();

@@ -5,10 +5,10 @@
 //! the final `density_error_mean` (the DEM issue's targets where it gives one) and, with
 //! `DEMKIT_CHECK_TIME` set, the time budget.
 
-use demkit::init::shape::Shape;
 use demkit::methods::{dem, dem_shape};
 use demkit::metrics::{Domain, compute, density_error, map_areas};
 use demkit::population::{PopulationSpec, face_populations};
+use demkit::shape::Shape;
 use std::time::Instant;
 
 mod common;

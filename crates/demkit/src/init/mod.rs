@@ -1,5 +1,5 @@
 //! Initial maps: curvature-based boundary flattening (DEM Alg. 1), Tutte and locally authalic
-//! fixed-boundary maps (Alg. 2–3), prescribed boundary shapes, the reflection sea (Alg. 4), and
+//! fixed-boundary maps (Alg. 2–3), the reflection sea (Alg. 4), and
 //! the spherical conformal map of a genus-0 closed surface with its Möbius area correction, and
 //! the conformal map of a multiply connected open surface onto a circle domain with the disk
 //! automorphism that balances its areas.
@@ -10,6 +10,5 @@ pub mod disk_mobius;
 pub mod genus_one;
 pub mod mobius;
 pub mod sea;
-pub mod shape;
 pub mod spherical_conformal;
 pub mod tutte;

@@ -1,215 +1,28 @@
-//! The density-equalizing methods. Each is a `Config` whose `Default` is its paper's defaults
-//! and a `run` function returning a [`MapResult`].
+//! The density-equalizing methods, by the domain they map onto: the plane ([`disk`]), the
+//! sphere ([`sphere`]), circle domains ([`circle`]) and the torus ([`torus`]), each with the
+//! parts its methods share beside them; [`common`] holds what all share — the one
+//! density-equalizing iteration, the result and the input checks. Each method is a `Config`
+//! whose `Default` is its paper's defaults (departures in `docs/deviations.md`) and a `run`
+//! function returning a [`MapResult`].
 
-pub mod circle_conformal;
-pub mod dem;
-pub mod dem_shape;
-pub mod deq;
-mod disk_input;
-mod iteration;
-pub mod ldeq;
-pub mod lsdem;
-mod planar_diffusion;
-pub mod sdem;
-mod sphere_density;
-mod sphere_input;
-pub(crate) use sphere_input::check_sphere_input;
-mod sphere_overlap;
-pub mod spherical_conformal;
-pub mod tdem;
+pub mod circle;
+pub mod common;
+pub mod disk;
+pub mod sphere;
+pub mod torus;
 
-/// Refuses a mesh the methods cannot work on, whoever built it: the first error of
-/// [`crate::mesh::validate::check`] (a face index out of range, a non-finite coordinate, a
-/// degenerate or non-manifold face, ...). The CLI validates on reading; this keeps a library
-/// caller's unvalidated mesh from reaching the numerics.
-pub(crate) fn require_valid_mesh(mesh: &crate::TriMesh, method: &str) -> crate::Result<()> {
-    match crate::mesh::validate::check(mesh).errors.into_iter().next() {
-        Some(e) => Err(crate::Error::InvalidMesh(format!("{method}: {e}"))),
-        None => Ok(()),
-    }
-}
-
-/// Checks what every landmark method needs of its landmarks: at least one, vertex indices in
-/// range, each vertex once (landmarks are numbered from 1 in the messages).
-pub(crate) fn check_landmark_vertices(
-    landmarks: &[(usize, [f64; 3])],
-    n_vertices: usize,
-    method: &str,
-) -> crate::Result<()> {
-    use crate::Error;
-    if landmarks.is_empty() {
-        return Err(Error::Landmarks(format!(
-            "{method} needs at least one landmark"
-        )));
-    }
-    let mut seen = vec![false; n_vertices];
-    for (k, &(v, _)) in landmarks.iter().enumerate() {
-        if v >= n_vertices {
-            return Err(Error::Landmarks(format!(
-                "landmark {}: vertex {v} is out of range (mesh has {n_vertices} vertices)",
-                k + 1
-            )));
-        }
-        if std::mem::replace(&mut seen[v], true) {
-            return Err(Error::Landmarks(format!(
-                "landmark {}: vertex {v} appears twice",
-                k + 1
-            )));
-        }
-    }
-    Ok(())
-}
-
-/// Why an iteration stopped.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum StopReason {
-    /// The method's stopping quantity fell below ε.
-    Tolerance,
-    /// The map stopped improving before reaching ε (still converged).
-    Stationary,
-    /// The iteration limit ran out (not converged).
-    MaxIter,
-}
-
-impl StopReason {
-    /// The report's name for the reason.
-    pub fn as_str(&self) -> &'static str {
-        match self {
-            StopReason::Tolerance => "tolerance",
-            StopReason::Stationary => "stationary",
-            StopReason::MaxIter => "max_iter",
-        }
-    }
-}
-
-/// What a long run reports after each iteration.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Progress {
-    /// 1-based iteration number.
-    pub iteration: usize,
-    /// The iteration limit.
-    pub max_iter: usize,
-    /// The method's own stopping quantity (e.g. sd/mean of the density).
-    pub error: f64,
-}
-
-/// The outcome of a method.
-#[derive(Debug, Clone)]
-pub struct MapResult {
-    /// The method's report name (`"dem"`, ...).
-    pub method: &'static str,
-    /// The mapped position of every input vertex, in input order (z = 0 for planar maps).
-    pub positions: Vec<[f64; 3]>,
-    /// The initial map (after initialization, before density equalization), same scale as
-    /// `positions`; metrics compare the two.
-    pub initial: Vec<[f64; 3]>,
-    /// True unless the iteration limit ran out.
-    pub converged: bool,
-    /// Why the iteration stopped.
-    pub stop_reason: StopReason,
-    /// Number of iterations done.
-    pub iterations: usize,
-    /// The stopping quantity after each iteration.
-    pub history: Vec<f64>,
-    /// Seconds spent in the initialization.
-    pub time_init: f64,
-    /// Seconds spent in the density-equalizing iteration.
-    pub time_map: f64,
-    /// Remarks worth telling the user (e.g. an initial map fell back to Tutte).
-    pub notes: Vec<String>,
-    /// For maps onto a torus: the final map on the flat torus (points and lattice
-    /// translations), from which `positions` is projected; flips are counted on it.
-    pub flat_torus: Option<crate::geometry::torus::FlatTorusMap>,
-    /// The surface the map is of, when the method had to refine its input (DEQ: the chords of
-    /// holes split, [`deq`]); `positions` and `initial` then follow its vertices, the input's
-    /// first in their order.
-    pub refined: Option<RefinedSurface>,
-    /// `[initial, final]` values of the method's own objective, when it minimises one that
-    /// weighs the density against something else (DEQ: density misfit and distortion, (4.2));
-    /// [`judge`](Self::judge) measures the run's progress on it instead of on the density.
-    pub objective: Option<[f64; 2]>,
-}
-
-/// A refinement of the input a method mapped instead of the input itself.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RefinedSurface {
-    /// The refined mesh: the input vertices first, in input order, then the added ones.
-    pub mesh: crate::TriMesh,
-    /// The population of each of its faces (each input face's shared among its parts by area).
-    pub population: Vec<f64>,
-    /// The input face each of its faces is part of.
-    pub parent_face: Vec<usize>,
-}
-
-impl MapResult {
-    /// The map of `method` from `initial` to `positions`, stopped for `stop_reason` after
-    /// `iterations` with the stopping quantity's `history`: converged unless the limit ran out;
-    /// no times, notes or extras yet (the method fills in what it has).
-    pub(crate) fn new(
-        method: &'static str,
-        positions: Vec<[f64; 3]>,
-        initial: Vec<[f64; 3]>,
-        stop_reason: StopReason,
-        iterations: usize,
-        history: Vec<f64>,
-    ) -> Self {
-        Self {
-            method,
-            positions,
-            initial,
-            converged: stop_reason != StopReason::MaxIter,
-            stop_reason,
-            iterations,
-            history,
-            time_init: 0.0,
-            time_map: 0.0,
-            notes: Vec::new(),
-            flat_torus: None,
-            refined: None,
-            objective: None,
-        }
-    }
-
-    /// Makes `converged` honest: a run its method calls converged is not (stop reason
-    /// `max_iter`, the reason in the notes) when it left the density as it was
-    /// ([`crate::metrics::barely_moved`] of its `metrics`; for a method with its own
-    /// [`objective`](Self::objective), [`crate::metrics::barely_lowered`] of that, or a density
-    /// left far from equal, [`crate::metrics::not_equalized`]), or when it stopped improving
-    /// under a fixed time step `fixed_dt` short of its tolerance. The conformal maps do not equalize
-    /// the density and are left as they are.
-    pub fn judge(&mut self, metrics: &crate::metrics::Metrics, fixed_dt: Option<f64>) {
-        if !self.converged || matches!(self.method, "spherical-conformal" | "circle-conformal") {
-            return;
-        }
-        let stationary = self.stop_reason == StopReason::Stationary;
-        let barely = match self.objective {
-            Some([before, after]) => crate::metrics::barely_lowered(before, after)
-                .or_else(|| crate::metrics::not_equalized(metrics)),
-            None => crate::metrics::barely_moved(metrics),
-        };
-        let why = match (barely, fixed_dt) {
-            (Some(why), Some(dt)) => {
-                format!("{why}; the fixed time step {dt:e} is too small to move the map")
-            }
-            (Some(why), None) => why,
-            // With its step fixed a run that stops improving may only be too slow to go on.
-            (None, Some(dt)) if stationary => format!(
-                "the map stopped improving with the fixed time step {dt:e} before reaching the \
-                 tolerance; the default (adaptive) step may go further"
-            ),
-            (None, _) => return,
-        };
-        self.converged = false;
-        self.stop_reason = StopReason::MaxIter;
-        self.notes.push(why);
-    }
-}
-
-/// A progress callback; the CLI draws a bar with it, tests pass `&mut |_| {}`.
-pub type ProgressFn<'a> = &'a mut dyn FnMut(Progress);
+pub use circle::{circle_conformal, deq, ldeq};
+pub(crate) use common::iteration;
+pub use common::{MapResult, Progress, ProgressFn, RefinedSurface, StopReason};
+pub(crate) use common::{check_landmark_vertices, require_valid_mesh};
+pub use disk::{dem, dem_shape};
+pub(crate) use sphere::input::check_sphere_input;
+pub use sphere::{lsdem, sdem, spherical_conformal};
+pub use torus::tdem;
 
 #[cfg(test)]
 mod input_tests {
+    use super::*;
     use crate::TriMesh;
 
     /// An unvalidated mesh with a face index out of range: every method refuses it with an
@@ -222,16 +35,16 @@ mod input_tests {
         );
         let pop = [1.0];
         let quiet = &mut |_| {};
-        assert!(super::dem::run(&mesh, &pop, &Default::default(), quiet).is_err());
-        assert!(super::dem_shape::run(&mesh, &pop, &Default::default(), quiet).is_err());
-        assert!(super::sdem::run(&mesh, &pop, &Default::default(), quiet).is_err());
-        assert!(super::deq::run(&mesh, &pop, &Default::default(), quiet).is_err());
-        assert!(super::spherical_conformal::run(&mesh, &pop).is_err());
-        assert!(super::circle_conformal::run(&mesh, &pop).is_err());
+        assert!(dem::run(&mesh, &pop, &Default::default(), quiet).is_err());
+        assert!(dem_shape::run(&mesh, &pop, &Default::default(), quiet).is_err());
+        assert!(sdem::run(&mesh, &pop, &Default::default(), quiet).is_err());
+        assert!(deq::run(&mesh, &pop, &Default::default(), quiet).is_err());
+        assert!(spherical_conformal::run(&mesh, &pop).is_err());
+        assert!(circle_conformal::run(&mesh, &pop).is_err());
         let lm = [(0usize, [0.0, 0.0, 1.0])];
-        assert!(super::lsdem::run(&mesh, &pop, &lm, &Default::default(), quiet).is_err());
-        assert!(super::ldeq::run(&mesh, &pop, &lm, &Default::default(), quiet).is_err());
+        assert!(lsdem::run(&mesh, &pop, &lm, &Default::default(), quiet).is_err());
+        assert!(ldeq::run(&mesh, &pop, &lm, &Default::default(), quiet).is_err());
         let torus = crate::geometry::torus::Torus::new(2.0, 1.0).unwrap();
-        assert!(super::tdem::run(&mesh, &pop, &torus, &Default::default(), quiet).is_err());
+        assert!(tdem::run(&mesh, &pop, &torus, &Default::default(), quiet).is_err());
     }
 }

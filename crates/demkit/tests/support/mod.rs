@@ -60,9 +60,9 @@ pub fn run_for_topology(
             0 => dem::run(mesh, population, &dem_config, &mut quiet),
             1 => {
                 let shape = match variant / 4 % 3 {
-                    0 => demkit::init::shape::Shape::Disk,
-                    1 => demkit::init::shape::Shape::Square,
-                    _ => demkit::init::shape::Shape::Rectangle {
+                    0 => demkit::shape::Shape::Disk,
+                    1 => demkit::shape::Shape::Square,
+                    _ => demkit::shape::Shape::Rectangle {
                         width: 3.0,
                         height: 2.0,
                     },

@@ -8,7 +8,7 @@ use crate::{Error, Result, TriMesh};
 /// Checks that `mesh` is a genus-0 closed surface (no boundary, one component) and that
 /// `population` has one positive value per face.
 pub(crate) fn check_sphere_input(mesh: &TriMesh, population: &[f64], method: &str) -> Result<()> {
-    super::require_valid_mesh(mesh, method)?;
+    crate::methods::require_valid_mesh(mesh, method)?;
     let topo = topology(mesh);
     if topo.components != 1 || !topo.boundary_loops.is_empty() || topo.genus != 0 {
         let what = if topo.components != 1 {

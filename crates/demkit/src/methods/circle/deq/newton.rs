@@ -14,7 +14,7 @@ use crate::fem::VertexFaces;
 use crate::geometry::face_areas;
 use crate::linalg::{ElementPattern, SpdSolver, packed_index};
 use crate::mesh::topology::{ring_distances, vertex_neighbours};
-use crate::methods::planar_diffusion::collapse_time;
+use crate::methods::disk::planar_diffusion::collapse_time;
 use crate::metrics::normalized_variance;
 use rayon::prelude::*;
 

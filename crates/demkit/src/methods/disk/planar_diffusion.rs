@@ -8,13 +8,15 @@
 //!   shortened uniformly ([`safe_update`]), which never flips a triangle (§7.3 asks for
 //!   exactly such a safeguard).
 
-use super::iteration::{Flow, Keep, Measured, Moved, Rules, Step, diffusion_time_step, iterate};
-use super::{Progress, StopReason};
 use crate::Result;
 use crate::fem::{DiffusionOperator, VertexFaces, face_gradient_into};
 use crate::geometry::face_areas;
-use crate::init::shape::Shape;
+use crate::methods::iteration::{
+    Flow, Keep, Measured, Moved, Rules, Step, diffusion_time_step, iterate,
+};
+use crate::methods::{Progress, StopReason};
 use crate::metrics::normalized_variance;
+use crate::shape::Shape;
 use rayon::prelude::*;
 
 /// How the vertices of a planar diffusion problem may move.

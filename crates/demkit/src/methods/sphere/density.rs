@@ -2,7 +2,7 @@
 //! once per mesh (sparsity pattern and symbolic Cholesky analysis) and refactored numerically
 //! every iteration with the current A_n and L_n.
 
-use super::sphere_overlap::tangential;
+use super::overlap::tangential;
 use crate::Result;
 use crate::fem::{DiffusionOperator, VertexFaces, face_gradient};
 use crate::geometry::face_areas;

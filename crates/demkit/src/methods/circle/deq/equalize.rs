@@ -12,7 +12,7 @@ use super::{Config, newton, repair};
 use crate::fem::DirichletSystem;
 use crate::geometry::face_areas;
 use crate::methods::ProgressFn;
-use crate::methods::planar_diffusion::{self, Problem};
+use crate::methods::disk::planar_diffusion::{self, Problem};
 use crate::{Result, TriMesh};
 
 /// The density-equalizing iteration stops once sd/mean of the vertex density is below this;

@@ -19,18 +19,20 @@
 //! backward-Euler step of length δt damps a density mode of wavenumber k by `1/(1 + δt k²)`
 //! and the move cancels the fraction `δt k²/(1 + δt k²)` of it, so a long step cancels every
 //! mode at once — the iteration becomes a Newton-like one on the density. The step is the
-//! shared iteration's adaptive one ([`super::iteration`]), capped by the DEM paper's (4.39) for
+//! shared iteration's adaptive one ([`crate::methods::iteration`]), capped by the DEM paper's (4.39) for
 //! the current density on the period rectangle: a move that does not lower sd/mean is undone
 //! and the step halved; after one that does, the step may double.
 
-use super::iteration::check_parameters;
-use super::iteration::{Flow, Keep, Measured, Moved, Rules, Step, diffusion_time_step, iterate};
-use super::planar_diffusion::collapse_time;
-use super::{MapResult, ProgressFn, StopReason};
 use crate::fem::{DiffusionOperator, UnfoldedFaces, VertexFaces, lumped_mass};
 use crate::geometry::face_areas;
 use crate::geometry::torus::{FlatTorusMap, Torus};
 use crate::mesh::topology::topology;
+use crate::methods::disk::planar_diffusion::collapse_time;
+use crate::methods::iteration::check_parameters;
+use crate::methods::iteration::{
+    Flow, Keep, Measured, Moved, Rules, Step, diffusion_time_step, iterate,
+};
+use crate::methods::{MapResult, ProgressFn, StopReason};
 use crate::metrics::normalized_variance;
 use crate::qc::{PeriodicBeltramiSolver, beltrami_coefficient, truncate};
 use crate::{Error, Result, TriMesh};
@@ -73,7 +75,7 @@ const STATIONARY_GAIN: f64 = 0.0;
 
 /// Checks that `mesh` is a closed connected genus-one surface and `population` fits it.
 pub(crate) fn torus_input(mesh: &TriMesh, population: &[f64]) -> Result<()> {
-    super::require_valid_mesh(mesh, "tdem")?;
+    crate::methods::require_valid_mesh(mesh, "tdem")?;
     let topo = topology(mesh);
     if topo.components != 1 || !topo.boundary_loops.is_empty() || topo.genus != 1 {
         let what = if topo.components != 1 {

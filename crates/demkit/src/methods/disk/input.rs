@@ -7,7 +7,7 @@ use crate::{Error, Result, TriMesh};
 /// component) and `population` has one value per face; returns the boundary loop
 /// (counter-clockwise with respect to the face orientation).
 pub(crate) fn disk_boundary(mesh: &TriMesh, population: &[f64], method: &str) -> Result<Vec<u32>> {
-    super::require_valid_mesh(mesh, method)?;
+    crate::methods::require_valid_mesh(mesh, method)?;
     let topo = topology(mesh);
     if topo.components != 1 || topo.boundary_loops.len() != 1 || topo.genus != 0 {
         let what = if topo.boundary_loops.is_empty() {

@@ -18,16 +18,18 @@
 //! implicit landmark term drags each landmark's neighbourhood along with it instead of pulling
 //! a single vertex through its neighbours. A map whose change keeps hovering above ε (over the
 //! last 20 iterations its smallest value fell by less than 5%) stops as stationary. The loop is
-//! the shared one of [`super::iteration`], with a fixed step, returning the last map.
+//! the shared one of [`crate::methods::iteration`], with a fixed step, returning the last map.
 
-use super::iteration::{Flow, Keep, Measured, Moved, Rules, Step, check_parameters, iterate};
-use super::sphere_density::SphereDiffusion;
-use super::sphere_input::{check_sphere_input, initial_sphere_map};
-use super::sphere_overlap::{OverlapCorrector, advance, tangential};
-use super::{MapResult, ProgressFn};
+use super::density::SphereDiffusion;
+use super::input::{check_sphere_input, initial_sphere_map};
+use super::overlap::{OverlapCorrector, advance, tangential};
 use crate::geometry::rotation::optimal_rotation;
 use crate::geometry::sphere::{mat_vec, normalize};
 use crate::geometry::{norm, sub};
+use crate::methods::iteration::{
+    Flow, Keep, Measured, Moved, Rules, Step, check_parameters, iterate,
+};
+use crate::methods::{MapResult, ProgressFn};
 use crate::{Error, Result, TriMesh};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -79,7 +81,7 @@ const TARGET_TOLERANCE: f64 = 1e-4;
 /// Checks the landmarks: indices in range, each vertex once (`methods::check_landmark_vertices`),
 /// targets on the unit sphere.
 pub fn check_landmarks(landmarks: &[(usize, [f64; 3])], n_vertices: usize) -> Result<()> {
-    super::check_landmark_vertices(landmarks, n_vertices, "lsdem")?;
+    crate::methods::check_landmark_vertices(landmarks, n_vertices, "lsdem")?;
     for (k, &(v, q)) in landmarks.iter().enumerate() {
         let r = norm(q);
         if !((r - 1.0).abs() <= TARGET_TOLERANCE) {

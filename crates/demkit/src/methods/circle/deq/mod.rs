@@ -43,8 +43,8 @@ mod repair;
 mod rounding;
 mod untangle;
 
-use super::{MapResult, ProgressFn, StopReason};
 use crate::mesh::topology::topology;
+use crate::methods::{MapResult, ProgressFn, StopReason};
 use crate::{Error, Result, TriMesh};
 use equalize::{Stage, energy_problem};
 use layout::Layout;
@@ -91,7 +91,7 @@ pub(crate) fn circle_input(
     population: &[f64],
     method: &str,
 ) -> Result<Vec<Vec<u32>>> {
-    super::require_valid_mesh(mesh, method)?;
+    crate::methods::require_valid_mesh(mesh, method)?;
     let topo = topology(mesh);
     if topo.components != 1 || topo.boundary_loops.is_empty() || topo.genus != 0 {
         let what = if topo.boundary_loops.is_empty() {
@@ -133,7 +133,7 @@ pub(crate) fn fit_circle(x: &[[f64; 3]], lp: &[u32]) -> ([f64; 2], f64) {
 }
 
 pub(crate) fn check_config(c: &Config) -> Result<()> {
-    super::iteration::check_parameters(c.epsilon, c.dt, c.max_iter)?;
+    crate::methods::iteration::check_parameters(c.epsilon, c.dt, c.max_iter)?;
     if !(c.alpha >= 0.0 && c.alpha.is_finite()) {
         return Err(Error::Argument(format!(
             "alpha must be zero or positive, got {}",
@@ -203,7 +203,7 @@ pub(crate) fn circle_domain_map(
             refinement.mesh.n_faces() - mesh.n_faces()
         ),
     );
-    result.refined = Some(super::RefinedSurface {
+    result.refined = Some(crate::methods::RefinedSurface {
         mesh: refinement.mesh,
         population: refined_population,
         parent_face: refinement.parent_face,

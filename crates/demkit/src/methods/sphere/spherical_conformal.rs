@@ -1,8 +1,8 @@
 //! The spherical conformal parameterization on its own (`--method spherical-conformal`): the
 //! initial map of SDEM (§3.1.1), with the Möbius correction towards the population.
 
-use super::sphere_input::{check_sphere_input, initial_sphere_map};
-use super::{MapResult, StopReason};
+use super::input::{check_sphere_input, initial_sphere_map};
+use crate::methods::{MapResult, StopReason};
 use crate::{Result, TriMesh};
 use std::time::Instant;
 

@@ -17,14 +17,16 @@
 //! sparse regions (as in (2.4) and (3.3)). When the density stops improving before ε is met
 //! (over the last 10 iterations the best sd/mean fell by less than 6%: the discrete map
 //! cannot equalize further at a useful pace) the iteration stops as stationary and returns the
-//! best map met. The loop itself is the shared one of [`super::iteration`].
+//! best map met. The loop itself is the shared one of [`crate::methods::iteration`].
 
-use super::iteration::{Flow, Keep, Measured, Moved, Rules, Step, check_parameters, iterate};
-use super::sphere_density::{Density, SphereDiffusion};
-use super::sphere_input::{check_sphere_input, initial_sphere_map};
-use super::sphere_overlap::{OverlapCorrector, advance};
-use super::{MapResult, ProgressFn};
+use super::density::{Density, SphereDiffusion};
+use super::input::{check_sphere_input, initial_sphere_map};
+use super::overlap::{OverlapCorrector, advance};
 use crate::geometry::sphere::normalize;
+use crate::methods::iteration::{
+    Flow, Keep, Measured, Moved, Rules, Step, check_parameters, iterate,
+};
+use crate::methods::{MapResult, ProgressFn};
 use crate::{Error, Result, TriMesh};
 use std::time::Instant;
 

@@ -2,7 +2,7 @@
 //! initial map of DEQ (§5.1.1).
 
 use super::deq::circle_input;
-use super::{MapResult, StopReason};
+use crate::methods::{MapResult, StopReason};
 use crate::{Result, TriMesh};
 use std::time::Instant;
 

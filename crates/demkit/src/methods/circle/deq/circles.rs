@@ -5,7 +5,7 @@
 use super::beltrami::Relaxation;
 use super::patch::Patch;
 use crate::fem::{DirichletSystem, cotangent_weights};
-use crate::methods::planar_diffusion::{Constraint, linear_move};
+use crate::methods::disk::planar_diffusion::{Constraint, linear_move};
 
 /// A circle `|z − center| = radius`.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -6,7 +6,7 @@
 //! target lies in a hole) is reported, and the run does not count as converged.
 
 use super::deq::{self, circle_domain_map, circle_input};
-use super::{MapResult, ProgressFn};
+use crate::methods::{MapResult, ProgressFn};
 use crate::{Error, Result, TriMesh};
 
 /// LDEQ parameters: those of DEQ.
@@ -23,7 +23,7 @@ fn check_landmarks(
     loops: &[Vec<u32>],
     landmarks: &[(usize, [f64; 3])],
 ) -> Result<Vec<(usize, [f64; 2])>> {
-    super::check_landmark_vertices(landmarks, mesh.n_vertices(), "ldeq")?;
+    crate::methods::check_landmark_vertices(landmarks, mesh.n_vertices(), "ldeq")?;
     let mut on_boundary = vec![false; mesh.n_vertices()];
     for &v in loops.iter().flatten() {
         on_boundary[v as usize] = true;

@@ -4,14 +4,14 @@
 //! DEM. The result stays in the shape's own coordinates (no final rescale), so the boundary lies
 //! exactly on the prescribed curve.
 
-use super::disk_input::disk_boundary;
-use super::iteration::check_parameters;
+use super::input::disk_boundary;
 use super::planar_diffusion::{self, Problem};
-use super::{MapResult, ProgressFn};
 use crate::geometry::signed_areas_2d;
 use crate::geometry::{norm, sub};
-use crate::init::shape::Shape;
 use crate::init::tutte::{InteriorWeights, fixed_boundary_map};
+use crate::methods::iteration::check_parameters;
+use crate::methods::{MapResult, ProgressFn};
+use crate::shape::Shape;
 use crate::{Error, Result, TriMesh};
 use std::time::Instant;
 

@@ -7,13 +7,13 @@
 //! sea (Alg. 4), and deformed by density diffusion until the density is equal; the sea is
 //! dropped and the result rescaled to the input's total area.
 
-use super::disk_input::disk_boundary;
+use super::input::disk_boundary;
 use super::planar_diffusion::{self, Problem};
-use super::{MapResult, ProgressFn};
 use crate::geometry::{face_areas, planar_frame, signed_areas_2d};
 use crate::init::boundary_flattening::curvature_flatten_boundary;
 use crate::init::sea::build_sea_with_radius;
 use crate::init::tutte::{InteriorWeights, flatten_with_fallback};
+use crate::methods::{MapResult, ProgressFn};
 use crate::{Error, Result, TriMesh};
 use std::time::Instant;
 
@@ -154,7 +154,7 @@ pub fn run(
 }
 
 fn check_config(c: &Config) -> Result<()> {
-    super::iteration::check_parameters(c.epsilon, c.dt, c.max_iter)?;
+    crate::methods::iteration::check_parameters(c.epsilon, c.dt, c.max_iter)?;
     if !(c.eta > 1.0) {
         return Err(Error::Argument(format!(
             "sea radius η must exceed 1, got {}",

@@ -13,7 +13,7 @@ use super::circles::Circle;
 use crate::Result;
 use crate::fem::{DirichletSystem, cotangent_weights};
 use crate::geometry::segment::polygon_distance;
-use crate::methods::planar_diffusion::collapse_time;
+use crate::methods::disk::planar_diffusion::collapse_time;
 use rayon::prelude::*;
 
 /// Rounds of harmonic extension at most.

@@ -1,0 +1,3 @@
+//! Maps onto a torus: TDEM.
+
+pub mod tdem;
