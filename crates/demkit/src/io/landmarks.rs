@@ -2,7 +2,7 @@
 //! landmark vertex files (registration): one vertex index per line.
 
 use super::{Lines, format_error, number_error, parse_error, parse_f64, parse_int, read_file};
-use super::{path_label, show, strip_comment, tokens};
+use super::{path_label, strip_comment, tokens, unreadable_error};
 use crate::{Error, Result};
 use std::path::Path;
 
@@ -106,13 +106,8 @@ fn parse_rows<T>(
                 format!("expected {expected}, found {} fields", fields.len()),
             ));
         }
-        let index = parse_int(fields[0]).ok_or_else(|| {
-            parse_error(
-                path,
-                line_no,
-                format!("cannot read '{}' as a vertex index", show(fields[0])),
-            )
-        })?;
+        let index = parse_int(fields[0])
+            .ok_or_else(|| unreadable_error(path, line_no, fields[0], "a vertex index"))?;
         if index < 0 || index as u64 >= n_vertices as u64 {
             return Err(Error::Landmarks(format!(
                 "{path}: landmark on line {line_no}: vertex {index} is out of range (mesh has \

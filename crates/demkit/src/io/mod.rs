@@ -142,11 +142,29 @@ pub(crate) fn parse_error(path: &str, line: usize, msg: impl Into<String>) -> Er
 
 /// The [`Error::Parse`] for a token that is not a number.
 pub(crate) fn number_error(path: &str, line: usize, token: &[u8]) -> Error {
+    unreadable_error(path, line, token, "a number")
+}
+
+/// The [`Error::Parse`] for a token that cannot be read as `what` ("a number", "a count", ...).
+pub(crate) fn unreadable_error(path: &str, line: usize, token: &[u8], what: &str) -> Error {
     parse_error(
         path,
         line,
-        format!("cannot read '{}' as a number", show(token)),
+        format!("cannot read '{}' as {what}", show(token)),
     )
+}
+
+/// The [`Error::Parse`] for a face of `count` vertices in a text format: only triangles are read.
+pub(crate) fn face_size_error(path: &str, line: usize, count: i64) -> Error {
+    let msg = if count > 3 {
+        format!(
+            "face with {count} vertices: only triangles are supported (triangulate the mesh \
+             first)"
+        )
+    } else {
+        format!("face with {count} vertices: a face needs 3")
+    };
+    parse_error(path, line, msg)
 }
 
 /// A token for an error message: lossy UTF-8, shortened to 40 characters.
@@ -210,7 +228,6 @@ pub(crate) fn strip_comment(line: &[u8]) -> &[u8] {
     }
 }
 
-/// Parses a decimal floating-point number (also accepts `inf` and `nan`: callers check).
 /// Reads the three coordinates of a vertex from the remaining tokens of a text line; errors
 /// name the file and line (`what` names the vertex in the non-finite message).
 pub(crate) fn parse_vertex<'a>(
@@ -240,6 +257,7 @@ pub(crate) fn parse_vertex<'a>(
     Ok(p)
 }
 
+/// Parses a decimal floating-point number (also accepts `inf` and `nan`: callers check).
 pub(crate) fn parse_f64(token: &[u8]) -> Option<f64> {
     std::str::from_utf8(token).ok()?.parse().ok()
 }

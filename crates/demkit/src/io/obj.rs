@@ -1,7 +1,7 @@
 //! Wavefront OBJ: `v` and `f` statements (triangles only); everything else is ignored.
 
-use super::{Lines, format_error, parse_error, parse_int, show};
-use super::{parse_vertex, strip_comment, tokens};
+use super::{Lines, face_size_error, format_error, parse_error, parse_int};
+use super::{parse_vertex, strip_comment, tokens, unreadable_error};
 use crate::{Result, TriMesh};
 use std::io::Write;
 
@@ -43,15 +43,7 @@ pub fn parse_obj(data: &[u8], path: &str) -> Result<TriMesh> {
                     count += 1;
                 }
                 if count != 3 {
-                    let msg = if count > 3 {
-                        format!(
-                            "face with {count} vertices: only triangles are supported \
-                             (triangulate the mesh first)"
-                        )
-                    } else {
-                        format!("face with {count} vertices: a face needs 3")
-                    };
-                    return Err(parse_error(path, line_no, msg));
+                    return Err(face_size_error(path, line_no, count as i64));
                 }
                 faces.push(face);
             }
@@ -79,13 +71,8 @@ pub fn parse_obj(data: &[u8], path: &str) -> Result<TriMesh> {
 /// given as a positive (absolute, to be range-checked later) index.
 fn corner(token: &[u8], n_so_far: usize, path: &str, line: usize) -> Result<(u32, bool)> {
     let index = token.split(|&b| b == b'/').next().unwrap_or(token);
-    let value = parse_int(index).ok_or_else(|| {
-        parse_error(
-            path,
-            line,
-            format!("cannot read '{}' as a vertex index", show(token)),
-        )
-    })?;
+    let value =
+        parse_int(index).ok_or_else(|| unreadable_error(path, line, token, "a vertex index"))?;
     if value > 0 {
         return u32::try_from(value - 1)
             .map(|i| (i, true))

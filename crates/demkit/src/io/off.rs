@@ -1,7 +1,7 @@
 //! Object File Format (OFF), text only: header, counts, vertex lines, face lines.
 
-use super::{Lines, format_error, parse_error, parse_int, show};
-use super::{parse_vertex, strip_comment, tokens};
+use super::{Lines, face_size_error, format_error, parse_error, parse_int, show};
+use super::{parse_vertex, strip_comment, tokens, unreadable_error};
 use crate::{Result, TriMesh};
 
 /// Parses OFF text. `path` only labels error messages.
@@ -66,13 +66,7 @@ pub fn parse_off(data: &[u8], path: &str) -> Result<TriMesh> {
         })?;
         parse_int(t)
             .and_then(|c| usize::try_from(c).ok())
-            .ok_or_else(|| {
-                parse_error(
-                    path,
-                    counts_no,
-                    format!("cannot read '{}' as a count", show(t)),
-                )
-            })
+            .ok_or_else(|| unreadable_error(path, counts_no, t, "a count"))
     };
     let (nv, nf) = (count(0)?, count(1)?);
 
@@ -80,9 +74,7 @@ pub fn parse_off(data: &[u8], path: &str) -> Result<TriMesh> {
     // line takes at least 6 bytes ("0 0 0\n"), a face line at least 8 ("3 0 1 2\n").
     let mut positions = Vec::with_capacity(nv.min(data.len() / 6));
     for v in 0..nv {
-        let (line_no, line) = lines
-            .next()
-            .ok_or_else(|| format_error(path, &format!("file ends after {v} of {nv} vertices")))?;
+        let (line_no, line) = next_line(&mut lines, path, v, nv, "vertices")?;
         let mut toks = tokens(line);
         let p = parse_vertex(&mut toks, path, line_no, &format!("vertex {v}"))?;
         positions.push(p);
@@ -90,41 +82,20 @@ pub fn parse_off(data: &[u8], path: &str) -> Result<TriMesh> {
 
     let mut faces = Vec::with_capacity(nf.min(data.len() / 8));
     for f in 0..nf {
-        let (line_no, line) = lines
-            .next()
-            .ok_or_else(|| format_error(path, &format!("file ends after {f} of {nf} faces")))?;
+        let (line_no, line) = next_line(&mut lines, path, f, nf, "faces")?;
         let mut toks = tokens(line);
         let t = toks.next().unwrap_or_default();
-        let k = parse_int(t).ok_or_else(|| {
-            parse_error(
-                path,
-                line_no,
-                format!("cannot read '{}' as a vertex count", show(t)),
-            )
-        })?;
+        let k = parse_int(t).ok_or_else(|| unreadable_error(path, line_no, t, "a vertex count"))?;
         if k != 3 {
-            let msg = if k > 3 {
-                format!(
-                    "face with {k} vertices: only triangles are supported (triangulate the mesh \
-                     first)"
-                )
-            } else {
-                format!("face with {k} vertices: a face needs 3")
-            };
-            return Err(parse_error(path, line_no, msg));
+            return Err(face_size_error(path, line_no, k));
         }
         let mut face = [0u32; 3];
         for slot in &mut face {
             let t = toks.next().ok_or_else(|| {
                 parse_error(path, line_no, "face announces 3 vertices but lists fewer")
             })?;
-            let i = parse_int(t).ok_or_else(|| {
-                parse_error(
-                    path,
-                    line_no,
-                    format!("cannot read '{}' as a vertex index", show(t)),
-                )
-            })?;
+            let i =
+                parse_int(t).ok_or_else(|| unreadable_error(path, line_no, t, "a vertex index"))?;
             if i < 0 || i as u64 >= nv as u64 {
                 return Err(parse_error(
                     path,
@@ -147,6 +118,20 @@ pub fn parse_off(data: &[u8], path: &str) -> Result<TriMesh> {
         return Err(format_error(path, "no faces"));
     }
     Ok(TriMesh::new(positions, faces))
+}
+
+/// The next line of `lines`, or the error for a file that ends after `done` of `total`
+/// `what` ("vertices", "faces").
+fn next_line<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a [u8])>,
+    path: &str,
+    done: usize,
+    total: usize,
+    what: &str,
+) -> Result<(usize, &'a [u8])> {
+    lines
+        .next()
+        .ok_or_else(|| format_error(path, &format!("file ends after {done} of {total} {what}")))
 }
 
 #[cfg(test)]
