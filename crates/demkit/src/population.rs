@@ -234,16 +234,9 @@ fn centroid(c: &[[f64; 3]; 3]) -> [f64; 3] {
     std::array::from_fn(|k| (c[0][k] + c[1][k] + c[2][k]) / 3.0)
 }
 
-/// Area of a triangle in R^3: half the norm of the cross product of two edges.
+/// Area of a triangle in R^3 given by its corners ([`crate::geometry::triangle_area`]).
 fn triangle_area(c: &[[f64; 3]; 3]) -> f64 {
-    let u: [f64; 3] = std::array::from_fn(|k| c[1][k] - c[0][k]);
-    let v: [f64; 3] = std::array::from_fn(|k| c[2][k] - c[0][k]);
-    let n = [
-        u[1] * v[2] - u[2] * v[1],
-        u[2] * v[0] - u[0] * v[2],
-        u[0] * v[1] - u[1] * v[0],
-    ];
-    0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
+    crate::geometry::triangle_area(c[0], c[1], c[2])
 }
 
 #[cfg(test)]

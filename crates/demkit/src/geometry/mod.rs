@@ -18,10 +18,18 @@ use rayon::prelude::*;
 
 /// The axis-aligned bounding box of points: (least, largest) coordinates; (+∞, −∞) for no points.
 pub fn bounding_box(points: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
+    bounds(points.iter().copied())
+}
+
+/// The axis-aligned bounding box of points in any dimension: (least, largest) coordinates;
+/// (+∞, −∞) for no points.
+pub(crate) fn bounds<const N: usize>(
+    points: impl IntoIterator<Item = [f64; N]>,
+) -> ([f64; N], [f64; N]) {
+    let mut lo = [f64::INFINITY; N];
+    let mut hi = [f64::NEG_INFINITY; N];
     for p in points {
-        for d in 0..3 {
+        for d in 0..N {
             lo[d] = lo[d].min(p[d]);
             hi[d] = hi[d].max(p[d]);
         }
@@ -52,24 +60,24 @@ pub fn signed_area_2d(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
 
 /// Unsigned areas of all faces (in parallel).
 pub fn face_areas(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
-    faces
-        .par_iter()
-        .map(|f| {
-            triangle_area(
-                positions[f[0] as usize],
-                positions[f[1] as usize],
-                positions[f[2] as usize],
-            )
-        })
-        .collect()
+    per_face(positions, faces, triangle_area)
 }
 
 /// Signed planar areas of all faces (x, y only; positive when counter-clockwise).
 pub fn signed_areas_2d(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
+    per_face(positions, faces, signed_area_2d)
+}
+
+/// `area` of every face's corners (in parallel).
+fn per_face(
+    positions: &[[f64; 3]],
+    faces: &[[u32; 3]],
+    area: fn([f64; 3], [f64; 3], [f64; 3]) -> f64,
+) -> Vec<f64> {
     faces
         .par_iter()
         .map(|f| {
-            signed_area_2d(
+            area(
                 positions[f[0] as usize],
                 positions[f[1] as usize],
                 positions[f[2] as usize],

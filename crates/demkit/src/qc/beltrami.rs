@@ -36,8 +36,28 @@ pub fn triangle_beltrami(s: [[f64; 2]; 3], t: [[f64; 2]; 3]) -> Complex64 {
     fzbar / fz
 }
 
-fn xy(p: [f64; 3]) -> [f64; 2] {
-    [p[0], p[1]]
+/// The triangle's x, y coordinates (the plane z = 0).
+fn planar(p: [[f64; 3]; 3]) -> [[f64; 2]; 3] {
+    p.map(|q| [q[0], q[1]])
+}
+
+/// Beltrami coefficient per face of the map from `source` to `target` (same connectivity),
+/// each face's corners brought to the plane by `source_2d` and `target_2d`.
+fn per_face(
+    source: &[[f64; 3]],
+    target: &[[f64; 3]],
+    faces: &[[u32; 3]],
+    source_2d: fn([[f64; 3]; 3]) -> [[f64; 2]; 3],
+    target_2d: fn([[f64; 3]; 3]) -> [[f64; 2]; 3],
+) -> Vec<Complex64> {
+    faces
+        .par_iter()
+        .map(|f| {
+            let s = source_2d(f.map(|v| source[v as usize]));
+            let t = target_2d(f.map(|v| target[v as usize]));
+            triangle_beltrami(s, t)
+        })
+        .collect()
 }
 
 /// Beltrami coefficient per face of the map from the planar mesh `source` (x, y) to the planar
@@ -47,16 +67,7 @@ pub fn beltrami_coefficient(
     target: &[[f64; 3]],
     faces: &[[u32; 3]],
 ) -> Vec<Complex64> {
-    faces
-        .par_iter()
-        .map(|f| {
-            let [i, j, k] = f.map(|v| v as usize);
-            triangle_beltrami(
-                [xy(source[i]), xy(source[j]), xy(source[k])],
-                [xy(target[i]), xy(target[j]), xy(target[k])],
-            )
-        })
-        .collect()
+    per_face(source, target, faces, planar, planar)
 }
 
 /// Beltrami coefficient per face of the map from a surface in R³ (each triangle in its own
@@ -66,14 +77,7 @@ pub fn beltrami_coefficient_surface(
     target: &[[f64; 3]],
     faces: &[[u32; 3]],
 ) -> Vec<Complex64> {
-    faces
-        .par_iter()
-        .map(|f| {
-            let [i, j, k] = f.map(|v| v as usize);
-            let s = local_frame([surface[i], surface[j], surface[k]]);
-            triangle_beltrami(s, [xy(target[i]), xy(target[j]), xy(target[k])])
-        })
-        .collect()
+    per_face(surface, target, faces, local_frame, planar)
 }
 
 /// Beltrami coefficient per face of the map between two surfaces in R³ with the same
@@ -84,14 +88,7 @@ pub fn beltrami_coefficient_surfaces(
     target: &[[f64; 3]],
     faces: &[[u32; 3]],
 ) -> Vec<Complex64> {
-    faces
-        .par_iter()
-        .map(|f| {
-            let s = local_frame(f.map(|v| source[v as usize]));
-            let t = local_frame(f.map(|v| target[v as usize]));
-            triangle_beltrami(s, t)
-        })
-        .collect()
+    per_face(source, target, faces, local_frame, local_frame)
 }
 
 /// Truncation 𝕀 of the SDEM paper (3.19): `μ` if `|μ| < 1`, else `(1 − δ) μ / |μ|`
