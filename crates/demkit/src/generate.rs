@@ -31,10 +31,9 @@ pub use planar::{annulus, disk_with_holes, rectangle_with_holes, regular_polygon
 
 use crate::{Error, Result};
 
-/// Refuses a count below `min`.
 /// Splits every quad cell `(p, q)` — corners `index(p, q)`, `index(p + 1, q)`,
 /// `index(p + 1, q + 1)`, `index(p, q + 1)`, counter-clockwise — into two triangles along the
-/// same diagonal, in the order the cells come. Shared by the grid, annulus and torus.
+/// same diagonal, in the order the cells come. Shared by the grid, annulus, UV sphere and torus.
 fn split_cells(
     cells: impl Iterator<Item = (usize, usize)>,
     index: impl Fn(usize, usize) -> u32,
@@ -54,6 +53,7 @@ fn split_cells(
     faces
 }
 
+/// Refuses a count below `min`.
 fn at_least(name: &str, value: usize, min: usize) -> Result<()> {
     if value < min {
         Err(Error::Argument(format!(
@@ -71,6 +71,18 @@ fn positive(name: &str, value: f64) -> Result<()> {
     } else {
         Err(Error::Argument(format!(
             "{name} must be positive and finite, got {value}"
+        )))
+    }
+}
+
+/// Refuses a pair of lengths `(name, value)` where the first is not smaller than the second.
+fn smaller(small: (&str, f64), big: (&str, f64)) -> Result<()> {
+    let ((small_name, small), (big_name, big)) = (small, big);
+    if small < big {
+        Ok(())
+    } else {
+        Err(Error::Argument(format!(
+            "{small_name} must be smaller than {big_name}, got {small} and {big}"
         )))
     }
 }

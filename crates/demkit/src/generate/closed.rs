@@ -3,8 +3,8 @@
 use std::collections::HashMap;
 use std::f64::consts::{PI, TAU};
 
-use super::{at_least, fits, positive};
-use crate::{Error, Result, TriMesh};
+use super::{at_least, fits, positive, smaller};
+use crate::{Result, TriMesh};
 
 /// The unit sphere as a subdivided icosahedron: each of `subdivisions` rounds splits every face
 /// into four at its edge midpoints and projects the new vertices onto the sphere.
@@ -124,18 +124,8 @@ pub fn uv_sphere(n_lat: usize, n_lon: usize) -> Result<TriMesh> {
     for j in 0..n_lon {
         faces.push([0, ring(1, j), ring(1, j + 1)]);
     }
-    for i in 1..n_lat - 1 {
-        for j in 0..n_lon {
-            let (a, b, c, d) = (
-                ring(i, j),
-                ring(i + 1, j),
-                ring(i + 1, j + 1),
-                ring(i, j + 1),
-            );
-            faces.push([a, b, c]);
-            faces.push([a, c, d]);
-        }
-    }
+    let band = (1..n_lat - 1).flat_map(|i| (0..n_lon).map(move |j| (i, j)));
+    faces.extend(super::split_cells(band, ring, 0));
     for j in 0..n_lon {
         faces.push([ring(n_lat - 1, j), south, ring(n_lat - 1, j + 1)]);
     }
@@ -152,11 +142,7 @@ pub fn uv_sphere(n_lat: usize, n_lon: usize) -> Result<TriMesh> {
 pub fn torus(big_r: f64, small_r: f64, n_major: usize, n_minor: usize) -> Result<TriMesh> {
     positive("big_r", big_r)?;
     positive("small_r", small_r)?;
-    if small_r >= big_r {
-        return Err(Error::Argument(format!(
-            "small_r must be smaller than big_r, got {small_r} and {big_r}"
-        )));
-    }
+    smaller(("small_r", small_r), ("big_r", big_r))?;
     at_least("n_major", n_major, 3)?;
     at_least("n_minor", n_minor, 3)?;
     let n_vertices = n_major.checked_mul(n_minor);
@@ -186,6 +172,7 @@ fn normalized(p: &[f64; 3]) -> [f64; 3] {
 mod tests {
     use super::super::checks::*;
     use super::*;
+    use crate::Error;
 
     fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
         a[0] * b[0] + a[1] * b[1] + a[2] * b[2]

@@ -4,7 +4,7 @@ use std::f64::consts::{PI, TAU};
 
 use crate::mesh::triangulate::constrained_delaunay;
 
-use super::{at_least, fits, positive};
+use super::{at_least, fits, positive, smaller};
 use crate::{Error, Result, TriMesh};
 
 /// A regular polygon with `sides` corners, circumradius 1, centred at the origin in the plane
@@ -86,11 +86,7 @@ pub fn regular_polygon(sides: usize, rings: usize) -> Result<TriMesh> {
 pub fn annulus(inner_r: f64, outer_r: f64, n_radial: usize, n_angular: usize) -> Result<TriMesh> {
     positive("inner_r", inner_r)?;
     positive("outer_r", outer_r)?;
-    if inner_r >= outer_r {
-        return Err(Error::Argument(format!(
-            "inner_r must be smaller than outer_r, got {inner_r} and {outer_r}"
-        )));
-    }
+    smaller(("inner_r", inner_r), ("outer_r", outer_r))?;
     at_least("n_radial", n_radial, 1)?;
     at_least("n_angular", n_angular, 3)?;
     let n_vertices = n_radial
