@@ -15,7 +15,7 @@ use super::densify::split_edges;
 use super::flow::Flow;
 use super::raster::{self, IndexRings, polygon_area_centroid};
 use super::regions::RegionSet;
-use super::rings::bbox;
+use super::rings::{bbox, map_polygons};
 use super::{Cartogram, Config, Polygon, finish, share_errors, unit_values};
 use crate::methods::{Progress, ProgressFn, StopReason};
 use crate::{Error, Result};
@@ -360,16 +360,7 @@ pub fn flow(
     }
     let coordinates: Vec<Vec<Polygon>> = rings
         .iter()
-        .map(|polys| {
-            polys
-                .iter()
-                .map(|p| {
-                    p.iter()
-                        .map(|ring| ring.iter().map(|&v| points[v]).collect())
-                        .collect()
-                })
-                .collect()
-        })
+        .map(|polys| map_polygons(polys, |v| points[v]))
         .collect();
     let run = super::Run {
         iterations: steps,

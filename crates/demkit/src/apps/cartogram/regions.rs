@@ -11,6 +11,7 @@ use super::Polygon;
 use super::cleaning::{Snapper, remove_spikes};
 pub use super::frame::Frame;
 use super::geojson::RawRegion;
+use super::rings::map_polygons;
 pub(crate) use super::rings::{bbox, inside_ring, segment_distance};
 pub use super::rings::{polygon_area, ring_area, ring_orientation};
 use crate::{Error, Result};
@@ -207,16 +208,7 @@ impl RegionSet {
     pub fn coordinates(&self) -> Vec<Vec<Polygon>> {
         self.regions
             .iter()
-            .map(|r| {
-                r.polygons
-                    .iter()
-                    .map(|p| {
-                        p.iter()
-                            .map(|ring| ring.iter().map(|&v| self.points[v]).collect())
-                            .collect()
-                    })
-                    .collect()
-            })
+            .map(|r| map_polygons(&r.polygons, |v| self.points[v]))
             .collect()
     }
 }

@@ -2,6 +2,8 @@
 //! polygon with holes, point-in-ring, orientation of a point to a line, point-to-segment
 //! distance and bounding boxes.
 
+use super::Polygon;
+
 /// Twice the signed area of a closed ring given without closing point, halved: positive when
 /// counter-clockwise (shoelace formula).
 pub fn ring_area(ring: &[[f64; 2]]) -> f64 {
@@ -105,17 +107,25 @@ pub(crate) fn max2(a: [f64; 2], b: [f64; 2], pad: f64) -> [f64; 2] {
     [a[0].max(b[0]) + pad, a[1].max(b[1]) + pad]
 }
 
+/// One region's polygons with every ring vertex `v` replaced by `point(v)`: index rings made
+/// coordinates, or coordinates carried to another frame.
+pub(crate) fn map_polygons<T: Copy>(
+    polygons: &[Vec<Vec<T>>],
+    point: impl Fn(T) -> [f64; 2],
+) -> Vec<Polygon> {
+    polygons
+        .iter()
+        .map(|p| {
+            p.iter()
+                .map(|ring| ring.iter().map(|&v| point(v)).collect())
+                .collect()
+        })
+        .collect()
+}
+
 /// Bounding box of points.
 pub(crate) fn bbox(points: impl Iterator<Item = [f64; 2]>) -> ([f64; 2], [f64; 2]) {
-    let mut lo = [f64::INFINITY; 2];
-    let mut hi = [f64::NEG_INFINITY; 2];
-    for p in points {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    (lo, hi)
+    crate::geometry::bounds(points)
 }
 
 #[cfg(test)]

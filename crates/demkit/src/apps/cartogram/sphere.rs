@@ -8,6 +8,7 @@
 use super::planar::flow;
 use super::raster::IndexRings;
 use super::regions::RegionSet;
+use super::rings::map_polygons;
 use super::{Cartogram, Config, Polygon, figures};
 use crate::Result;
 use crate::methods::ProgressFn;
@@ -57,16 +58,7 @@ pub fn run(
     let coordinates: Vec<Vec<Polygon>> = f
         .coordinates
         .iter()
-        .map(|polys| {
-            polys
-                .iter()
-                .map(|p| {
-                    p.iter()
-                        .map(|ring| ring.iter().map(|&q| unproject(q)).collect())
-                        .collect()
-                })
-                .collect()
-        })
+        .map(|polys| map_polygons(polys, unproject))
         .collect();
     Ok(figures(
         set,
