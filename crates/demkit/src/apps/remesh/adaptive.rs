@@ -57,20 +57,8 @@ impl Candidates {
         }
         let fewest = (2.0 * area / (3f64.sqrt() * max_count.max(1) as f64)).sqrt();
         let step = (CANDIDATE_STEP * RADIUS_PER_SPACING * h_min * min_factor).max(fewest);
-        let (mut points, mut factor) = (Vec::new(), Vec::new());
-        for (y, xs) in hex_rows(lo, hi, step) {
-            let cross = region.crossings(y);
-            let mut k = 0;
-            for x in xs {
-                while k < cross.len() && cross[k] < x {
-                    k += 1;
-                }
-                if k % 2 == 1 {
-                    points.push([x, y]);
-                    factor.push(probe([x, y]).max(min_factor));
-                }
-            }
-        }
+        let points = region.lattice_inside(step);
+        let factor: Vec<f64> = points.iter().map(|&p| probe(p).max(min_factor)).collect();
         let mut keyed: Vec<(u64, usize)> = (0..points.len()).map(|i| (mix(i as u64), i)).collect();
         keyed.sort_unstable();
         let max_factor = factor.iter().copied().fold(min_factor, f64::max);

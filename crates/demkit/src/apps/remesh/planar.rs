@@ -6,7 +6,7 @@
 use super::Layout;
 use super::adaptive::Candidates;
 use super::region::Region;
-use super::sampling::{OnPolyline, hex_rows, hex_spacing, resample_closed};
+use super::sampling::{self, OnPolyline, hex_spacing, resample_closed};
 use crate::geometry::locate::PlanarLocator;
 use crate::mesh::triangulate::{constrained_delaunay, faces_inside};
 use crate::{Error, Result, TriMesh};
@@ -22,9 +22,6 @@ const ADAPT_ABOVE: f64 = 0.25;
 
 /// A Poisson-disk layout chooses among at most about this many candidates per point asked for.
 const MAX_CANDIDATES_PER_POINT: usize = 100;
-
-/// At most this many adjustments of the spacing to meet the requested vertex count.
-const SPACING_STEPS: usize = 12;
 
 /// Where the points go for one spacing: the resampled boundary loops and the interior lattice.
 struct Placement {
@@ -158,22 +155,12 @@ fn fit_spacing(
     area: f64,
     n: usize,
 ) -> Placement {
-    let mut h = hex_spacing(area, n);
-    let mut best: Option<Placement> = None;
-    for _ in 0..SPACING_STEPS {
-        let layout = lay_out(polylines, lengths, adaptive, h);
-        let count = layout.len().max(1);
-        let off = |l: &Placement| (l.len() as f64 - n as f64).abs();
-        let done = off(&layout) <= 0.01 * n as f64;
-        if best.as_ref().is_none_or(|b| off(&layout) < off(b)) {
-            best = Some(layout);
-        }
-        if done {
-            break;
-        }
-        h *= (count as f64 / n as f64).sqrt();
-    }
-    best.unwrap_or_else(|| lay_out(polylines, lengths, adaptive, h))
+    sampling::fit_spacing(
+        hex_spacing(area, n),
+        n,
+        |h| lay_out(polylines, lengths, adaptive, h),
+        Placement::len,
+    )
 }
 
 /// The boundary loops resampled at spacing `h` and, inside the region, the hexagonal lattice of
@@ -200,20 +187,11 @@ fn lay_out(
     }
     let margin = MARGIN * h;
     let region = Region::new(polylines, margin);
-    let (lo, hi) = region.bounds();
-    let mut interior = Vec::new();
-    for (y, xs) in hex_rows(lo, hi, h) {
-        let cross = region.crossings(y);
-        let mut k = 0;
-        for x in xs {
-            while k < cross.len() && cross[k] < x {
-                k += 1;
-            }
-            if k % 2 == 1 && !region.near_boundary([x, y], margin) {
-                interior.push([x, y]);
-            }
-        }
-    }
+    let interior = region
+        .lattice_inside(h)
+        .into_iter()
+        .filter(|&p| !region.near_boundary(p, margin))
+        .collect();
     Placement {
         h,
         boundary,

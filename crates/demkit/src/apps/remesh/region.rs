@@ -2,6 +2,7 @@
 //! loops (the outer loop minus the holes, even–odd rule), with a bucket grid over the boundary
 //! segments for distance queries.
 
+use super::sampling::hex_rows;
 use crate::geometry::segment::segment_distance;
 
 /// The boundary polylines of a planar map and a grid of their segments.
@@ -85,6 +86,25 @@ impl Region {
             .collect();
         xs.sort_by(f64::total_cmp);
         xs
+    }
+
+    /// The points of the hexagonal lattice of spacing `h` over the boundary's bounding box
+    /// ([`hex_rows`]) that lie inside the region (even–odd rule), row by row.
+    pub fn lattice_inside(&self, h: f64) -> Vec<[f64; 2]> {
+        let mut inside = Vec::new();
+        for (y, xs) in hex_rows(self.lo, self.hi, h) {
+            let cross = self.crossings(y);
+            let mut k = 0;
+            for x in xs {
+                while k < cross.len() && cross[k] < x {
+                    k += 1;
+                }
+                if k % 2 == 1 {
+                    inside.push([x, y]);
+                }
+            }
+        }
+        inside
     }
 
     /// True when `p` lies inside the region (even–odd rule).

@@ -13,6 +13,36 @@ pub fn hex_spacing(area: f64, n: usize) -> f64 {
     (2.0 * area / (3f64.sqrt() * n.max(1) as f64)).sqrt()
 }
 
+/// At most this many adjustments of the spacing to meet the requested vertex count.
+const SPACING_STEPS: usize = 12;
+
+/// The layout with closest to `n` points among those made by `layout` (for a spacing) and
+/// counted by `count`: starting at spacing `h`, each step corrects the spacing by the square
+/// root of the ratio of the count to `n`, until the count is within 1 % of `n` or
+/// [`SPACING_STEPS`] steps have run.
+pub(crate) fn fit_spacing<L>(
+    mut h: f64,
+    n: usize,
+    layout: impl Fn(f64) -> L,
+    count: impl Fn(&L) -> usize,
+) -> L {
+    let off = |c: usize| (c as f64 - n as f64).abs();
+    let mut best: Option<L> = None;
+    for _ in 0..SPACING_STEPS {
+        let candidate = layout(h);
+        let c = count(&candidate);
+        let done = off(c) <= 0.01 * n as f64;
+        if best.as_ref().is_none_or(|b| off(c) < off(count(b))) {
+            best = Some(candidate);
+        }
+        if done {
+            break;
+        }
+        h *= (c.max(1) as f64 / n as f64).sqrt();
+    }
+    best.unwrap_or_else(|| layout(h))
+}
+
 /// The rows of a hexagonal lattice of spacing `h` covering the box `[lo, hi]`: row `j` is at
 /// height `y_j` (rows `h√3/2` apart) and holds the abscissae `x0_j + i h` (odd rows shifted by
 /// `h/2`). The lattice is anchored at the box centre so that it does not depend on where the box

@@ -6,11 +6,9 @@
 //! pulled back onto the input surface through the inverse map.
 
 use super::Layout;
+use super::sampling::{fit_spacing, hex_spacing};
 use crate::geometry::torus::Torus;
 use std::f64::consts::PI;
-
-/// At most this many adjustments of the spacing to meet the requested vertex count.
-const SPACING_STEPS: usize = 12;
 
 /// About `n` points uniformly spread over the torus of revolution, in flat coordinates `(u, v) =
 /// (Rφ, rθ)` (z = 0), joined
@@ -21,22 +19,12 @@ const SPACING_STEPS: usize = 12;
 pub fn layout_torus(torus: &Torus, n: usize) -> Layout {
     let (big, small) = (torus.major, torus.minor);
     let area = 4.0 * PI * PI * big * small;
-    let mut h = super::sampling::hex_spacing(area, n);
-    let mut best: Option<Vec<usize>> = None;
-    for _ in 0..SPACING_STEPS {
-        let rings = ring_sizes(big, small, h);
-        let count: usize = rings.iter().sum();
-        let off = |r: &Vec<usize>| (r.iter().sum::<usize>() as f64 - n as f64).abs();
-        let done = off(&rings) <= 0.01 * n as f64;
-        if best.as_ref().is_none_or(|b| off(&rings) < off(b)) {
-            best = Some(rings);
-        }
-        if done {
-            break;
-        }
-        h *= (count as f64 / n as f64).sqrt();
-    }
-    let rings = best.unwrap_or_else(|| ring_sizes(big, small, h));
+    let rings = fit_spacing(
+        hex_spacing(area, n),
+        n,
+        |h| ring_sizes(big, small, h),
+        |r| r.iter().sum(),
+    );
     join_rings(torus, &rings)
 }
 
