@@ -121,7 +121,8 @@ pub struct MapArgs {
     /// circle-domain or flat-torus map (.obj).
     #[arg(long = "uv-out")]
     pub uv_out: Option<PathBuf>,
-    /// Also draw the mapped mesh coloured by the input population density (.png).
+    /// Also draw the input coloured by its population density beside the map coloured by the
+    /// density left after it, with a checkerboard carried from the initial map (.png).
     #[arg(long)]
     pub render: Option<PathBuf>,
     /// Also draw the initial and final density histograms side by side (.png).
@@ -142,7 +143,8 @@ pub struct PictureArgs {
     /// along z); planar meshes and maps are drawn flat from above unless this is given.
     #[arg(long, allow_hyphen_values = true)]
     pub view: Option<String>,
-    /// Picture height in pixels (64 to 4096); histograms are 1.5 times as wide.
+    /// Picture height in pixels (64 to 4096); histograms are 1.5 times as wide; `map
+    /// --render` draws two N × N pictures side by side, each with a legend strip.
     #[arg(long, default_value_t = 1024, allow_negative_numbers = true)]
     pub size: i64,
 }

@@ -1,5 +1,6 @@
 //! Colours for values: the perceptually uniform viridis map (dark purple → blue → green →
-//! yellow), by linear interpolation between nine of its samples.
+//! yellow) and a diverging blue → white → red map (ColorBrewer's RdBu, reversed) for ratios
+//! centred on 1, each by linear interpolation between samples.
 
 use super::raster::Rgb;
 
@@ -16,36 +17,69 @@ const STOPS: [Rgb; 9] = [
     [0xfd, 0xe7, 0x25],
 ];
 
-/// The colour of `t` in [0, 1] (clamped); NaN is mid grey.
+/// RdBu at t = 0, 0.1, …, 1, reversed: blue below the middle, near-white at ½, red above.
+const DIVERGING: [Rgb; 11] = [
+    [0x05, 0x30, 0x61],
+    [0x21, 0x66, 0xac],
+    [0x43, 0x93, 0xc3],
+    [0x92, 0xc5, 0xde],
+    [0xd1, 0xe5, 0xf0],
+    [0xf7, 0xf7, 0xf7],
+    [0xfd, 0xdb, 0xc7],
+    [0xf4, 0xa5, 0x82],
+    [0xd6, 0x60, 0x4d],
+    [0xb2, 0x18, 0x2b],
+    [0x67, 0x00, 0x1f],
+];
+
+/// The viridis colour of `t` in [0, 1] (clamped); NaN is mid grey.
 pub fn viridis(t: f64) -> Rgb {
+    interpolate(&STOPS, t)
+}
+
+/// The diverging colour of `t` in [0, 1] (clamped): ½ is near-white; NaN is mid grey.
+pub fn diverging(t: f64) -> Rgb {
+    interpolate(&DIVERGING, t)
+}
+
+/// Linear interpolation between equally spaced `stops`.
+fn interpolate(stops: &[Rgb], t: f64) -> Rgb {
     if t.is_nan() {
         return [128, 128, 128];
     }
-    let s = t.clamp(0.0, 1.0) * (STOPS.len() - 1) as f64;
-    let i = (s.floor() as usize).min(STOPS.len() - 2);
+    let s = t.clamp(0.0, 1.0) * (stops.len() - 1) as f64;
+    let i = (s.floor() as usize).min(stops.len() - 2);
     let f = s - i as f64;
-    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    let (a, b) = (stops[i], stops[i + 1]);
     std::array::from_fn(|k| {
         (f64::from(a[k]) + f * (f64::from(b[k]) - f64::from(a[k]))).round() as u8
+    })
+}
+
+/// The 0.5 % and 99.5 % quantiles of the finite values (the ends when those coincide);
+/// `None` without finite values.
+pub fn quantile_range(values: &[f64]) -> Option<(f64, f64)> {
+    let mut sorted: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+    sorted.sort_by(f64::total_cmp);
+    if sorted.is_empty() {
+        return None;
+    }
+    let (lo, hi) = (
+        demkit::metrics::quantile(&sorted, 0.005),
+        demkit::metrics::quantile(&sorted, 0.995),
+    );
+    Some(if hi > lo {
+        (lo, hi)
+    } else {
+        (sorted[0], sorted[sorted.len() - 1])
     })
 }
 
 /// Where each value falls in [0, 1] between the 0.5 % and 99.5 % quantiles of the finite
 /// values (so a few outliers do not wash out the rest); all values equal → ½.
 pub fn normalize(values: &[f64]) -> Vec<f64> {
-    let mut sorted: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
-    sorted.sort_by(f64::total_cmp);
-    if sorted.is_empty() {
+    let Some((lo, hi)) = quantile_range(values) else {
         return vec![0.5; values.len()];
-    }
-    let (lo, hi) = (
-        demkit::metrics::quantile(&sorted, 0.005),
-        demkit::metrics::quantile(&sorted, 0.995),
-    );
-    let (lo, hi) = if hi > lo {
-        (lo, hi)
-    } else {
-        (sorted[0], sorted[sorted.len() - 1])
     };
     values
         .iter()
@@ -78,6 +112,16 @@ mod tests {
         assert_eq!(viridis(f64::NAN), [128, 128, 128]);
         // Halfway between two stops.
         assert_eq!(viridis(1.0 / 16.0), [70, 23, 104]);
+    }
+
+    #[test]
+    fn the_diverging_map_is_light_in_the_middle_and_dark_at_the_ends() {
+        assert_eq!(diverging(0.5), [247, 247, 247]);
+        assert_eq!(diverging(0.0), [5, 48, 97]);
+        assert_eq!(diverging(1.0), [103, 0, 31]);
+        let (low, high) = (diverging(0.3), diverging(0.7));
+        assert!(low[2] > low[0] && high[0] > high[2], "{low:?} {high:?}");
+        assert_eq!(diverging(f64::NAN), [128, 128, 128]);
     }
 
     #[test]

@@ -2,15 +2,21 @@
 //!
 //! Meshes are drawn by a small z-buffered rasterizer ([`raster`]) through an orthographic
 //! camera ([`camera`]): planar meshes flat from above, surfaces in space lit from a chosen view;
-//! faces are coloured with viridis ([`colormap`]). The histograms follow the papers' figures
-//! ([`histogram`], [`plot`]).
+//! faces are coloured with viridis or a diverging map ([`colormap`]). `map --render` puts the
+//! input and the map side by side ([`figure`], [`residual`]) with colour bars ([`colorbar`])
+//! and a checkerboard carried from the initial map ([`checker`]). The histograms follow the
+//! papers' figures ([`histogram`], [`plot`]).
 
 mod camera;
+mod checker;
+mod colorbar;
 mod colormap;
+mod figure;
 pub(crate) mod font;
 mod histogram;
 mod plot;
 mod raster;
+mod residual;
 mod scene;
 
 use crate::Failure;
@@ -18,8 +24,7 @@ use crate::args::{MapArgs, RenderArgs};
 use crate::map::Computed;
 use camera::View;
 use demkit::TriMesh;
-use demkit::geometry::face_areas;
-use demkit::metrics::{Domain, map_areas};
+use demkit::metrics::map_areas;
 use raster::Rgb;
 use std::path::Path;
 use tiny_skia::Pixmap;
@@ -44,27 +49,13 @@ pub fn check_map_args(a: &MapArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Draws the mapped mesh coloured by the input population density P(T)/A(T) (A on the input
-/// surface) over its mean ΣP/ΣA, on a log scale: planar maps flat from above, sphere and torus
-/// maps lit from `--view`.
+/// Draws the input surface and the map side by side ([`residual::figure`]): the input
+/// coloured by its population density, the map by the density left after the map, both with
+/// a checkerboard carried from the initial map.
 pub fn render_map(png: &Path, mesh: &TriMesh, c: &Computed, a: &MapArgs) -> Result<(), Failure> {
     let size = check_size(a.picture.size)?;
-    let positions = &c.map.result.positions;
-    let planar = c.map.metrics_domain() == Domain::Plane;
-    let view =
-        parse_view(a.picture.view.as_deref())?.unwrap_or_else(|| default_view(positions, planar));
-    let areas = face_areas(&mesh.positions, &mesh.faces);
-    let log_density: Vec<f64> = histogram::normalized_densities(&c.map.population, &areas)
-        .iter()
-        .map(|d| d.ln())
-        .collect();
-    let colors = value_colors(&log_density);
-    let style = scene::Style {
-        view,
-        lit: !planar,
-        size,
-    };
-    write_png(png, scene::draw(positions, &mesh.faces, &colors, style))
+    let view = parse_view(a.picture.view.as_deref())?;
+    write_png(png, residual::figure(mesh, &c.map, view, size))
 }
 
 /// Draws the histograms of the face density P(T)/A(T) over its mean on the initial and on the
@@ -98,15 +89,10 @@ pub fn run(a: &RenderArgs) -> Result<u8, Failure> {
         Some(path) => value_colors(&read_face_values(path, mesh.n_faces())?),
         None => vec![PLAIN; mesh.n_faces()],
     };
-    let planar = is_planar(&mesh.positions);
-    let style = scene::Style {
-        view: view.unwrap_or_else(|| default_view(&mesh.positions, planar)),
-        lit: !planar,
-        size,
-    };
+    let style = scene_style(&mesh.positions, view, size);
     write_png(
         &a.out,
-        scene::draw(&mesh.positions, &mesh.faces, &colors, style),
+        scene::draw(&mesh.positions, &mesh.faces, &colors, style, None),
     )?;
     Ok(0)
 }
@@ -143,6 +129,17 @@ fn value_colors(values: &[f64]) -> Vec<Rgb> {
         .into_iter()
         .map(colormap::viridis)
         .collect()
+}
+
+/// How a mesh is drawn: from `view` when given, else from its default view ([`default_view`]);
+/// lit unless planar; `size` × `size` pixels.
+fn scene_style(positions: &[[f64; 3]], view: Option<View>, size: usize) -> scene::Style {
+    let planar = is_planar(positions);
+    scene::Style::square(
+        view.unwrap_or_else(|| default_view(positions, planar)),
+        !planar,
+        size,
+    )
 }
 
 /// All z equal (up to rounding against the extent in x and y).

@@ -6,6 +6,18 @@ use tiny_skia::{IntSize, Pixmap};
 /// An RGB colour.
 pub type Rgb = [u8; 3];
 
+/// A two-tone pattern over a triangle: a point for each corner; samples whose point,
+/// interpolated linearly between those, `is_dark` take the colour `dark`.
+#[derive(Clone, Copy)]
+pub struct Shading<'a> {
+    /// A point for each corner.
+    pub corners: &'a [[f64; 3]; 3],
+    /// Whether a point takes the dark colour.
+    pub is_dark: &'a dyn Fn([f64; 3]) -> bool,
+    /// The dark colour.
+    pub dark: Rgb,
+}
+
 /// Thin lines along a triangle's edges: half their width in samples, and their colour.
 #[derive(Debug, Clone, Copy)]
 pub struct EdgeLines {
@@ -49,9 +61,22 @@ impl Canvas {
     /// Depth is interpolated linearly; the sample keeps the nearest face. Degenerate or
     /// non-finite triangles draw nothing.
     pub fn fill_triangle(&mut self, p: [[f64; 3]; 3], color: Rgb, edges: Option<EdgeLines>) {
+        self.fill_triangle_shaded(p, color, edges, None);
+    }
+
+    /// [`fill_triangle`](Self::fill_triangle) with a two-tone pattern carried by the mesh
+    /// (such as a checkerboard in parameter coordinates), when given.
+    pub fn fill_triangle_shaded(
+        &mut self,
+        p: [[f64; 3]; 3],
+        color: Rgb,
+        edges: Option<EdgeLines>,
+        shade: Option<Shading>,
+    ) {
         if p.iter().flatten().any(|c| !c.is_finite()) {
             return;
         }
+        let mut attr = shade.map(|sh| *sh.corners);
         let snap = |v: f64| (v * SUB as f64).round().clamp(-LIMIT, LIMIT) as i64;
         let mut q = p.map(|c| [snap(c[0]), snap(c[1])]);
         let mut z = p.map(|c| c[2]);
@@ -62,6 +87,9 @@ impl Canvas {
         if area < 0 {
             q.swap(1, 2);
             z.swap(1, 2);
+            if let Some(a) = attr.as_mut() {
+                a.swap(1, 2);
+            }
             area = -area;
         }
         // Sample rows and columns whose centres can be inside.
@@ -105,8 +133,15 @@ impl Canvas {
                     if d > self.depth[i] {
                         self.depth[i] = d;
                         let on_edge = (0..3).any(|k| (w[k] as f64) < limit[k]);
-                        self.color[i] = match edges {
-                            Some(e) if on_edge => e.color,
+                        self.color[i] = match (edges, shade, &attr) {
+                            (Some(e), _, _) if on_edge => e.color,
+                            (_, Some(sh), Some(a)) => {
+                                let t = w.map(|v| v as f64 * inv);
+                                let at = std::array::from_fn(|k| {
+                                    t[0] * a[0][k] + t[1] * a[1][k] + t[2] * a[2][k]
+                                });
+                                if (sh.is_dark)(at) { sh.dark } else { color }
+                            }
                             _ => color,
                         };
                     }
@@ -283,6 +318,27 @@ mod tests {
             None,
         );
         assert_eq!(covered(&d, RED).len(), 0);
+    }
+
+    #[test]
+    fn shading_follows_the_corner_points_whatever_the_winding() {
+        // The corner points are the corners themselves: samples left of x = 4 keep the
+        // colour, the others are dark.
+        let tri = [[0.0, 0.0, 0.0], [8.0, 0.0, 0.0], [0.0, 8.0, 0.0]];
+        let right = |p: [f64; 3]| p[0] >= 4.0;
+        for corners in [tri, [tri[0], tri[2], tri[1]]] {
+            let mut c = Canvas::new(8, 8, BG);
+            let sh = Shading {
+                corners: &corners,
+                is_dark: &right,
+                dark: [100, 50, 0],
+            };
+            c.fill_triangle_shaded(corners, [200, 100, 0], None, Some(sh));
+            assert_eq!(c.sample(1, 1), [200, 100, 0]);
+            assert_eq!(c.sample(3, 3), [200, 100, 0]);
+            assert_eq!(c.sample(5, 1), [100, 50, 0]);
+            assert_eq!(c.sample(7, 7), BG);
+        }
     }
 
     #[test]

@@ -1,10 +1,11 @@
 //! A mesh drawn with one colour per face: flat from above for planar meshes, lit by a light
 //! from the upper left for surfaces in space; thin darker edges when faces are large enough
-//! on the picture to show them.
+//! on the picture to show them, or else a checkerboard carried by the mesh.
 
 use super::camera::{Camera, View};
+use super::checker::{Checker, DARK};
 use super::colormap::shade;
-use super::raster::{Canvas, EdgeLines, Rgb};
+use super::raster::{Canvas, EdgeLines, Rgb, Shading};
 use tiny_skia::Pixmap;
 
 /// The picture's background.
@@ -17,8 +18,32 @@ pub struct Style {
     pub view: View,
     /// Light the faces (surfaces in space); otherwise each face has exactly its colour.
     pub lit: bool,
-    /// The picture is `size` × `size` pixels.
-    pub size: usize,
+    /// The picture's width in pixels.
+    pub width: usize,
+    /// The picture's height in pixels.
+    pub height: usize,
+}
+
+impl Style {
+    /// A `size` × `size` picture.
+    pub fn square(view: View, lit: bool, size: usize) -> Style {
+        Style {
+            view,
+            lit,
+            width: size,
+            height: size,
+        }
+    }
+}
+
+/// A checkerboard carried by the mesh: `checker`'s cells of the point `points[v]` given to
+/// every vertex v (the initial map), interpolated across each face.
+#[derive(Clone, Copy)]
+pub struct Pattern<'a> {
+    /// One point per vertex.
+    pub points: &'a [[f64; 3]],
+    /// The cells.
+    pub checker: Checker,
 }
 
 /// Samples per pixel along each axis (the supersampling that smooths edges).
@@ -29,19 +54,22 @@ fn supersampling(size: usize) -> usize {
 /// Faces whose mean projected edge is at least this many pixels get edge lines.
 const EDGE_MIN_PIXELS: f64 = 10.0;
 
-/// Draws the faces of `positions` with `colors` (one per face) in `style`.
+/// Draws the faces of `positions` with `colors` (one per face) in `style`, with `pattern`
+/// when given.
 pub fn draw(
     positions: &[[f64; 3]],
     faces: &[[u32; 3]],
     colors: &[Rgb],
     style: Style,
+    pattern: Option<Pattern>,
 ) -> Option<Pixmap> {
-    let ss = supersampling(style.size);
-    let n = (style.size * ss) as f64;
-    let camera = Camera::fit(positions, style.view, n, n, 0.04);
+    let ss = supersampling(style.width.max(style.height));
+    let (w, h) = (style.width * ss, style.height * ss);
+    let camera = Camera::fit(positions, style.view, w as f64, h as f64, 0.04);
     let projected: Vec<[f64; 3]> = positions.iter().map(|&p| camera.project(p)).collect();
-    let mut canvas = Canvas::new(style.size * ss, style.size * ss, BACKGROUND);
-    let edges = show_edges(&projected, faces, ss as f64);
+    let mut canvas = Canvas::new(w, h, BACKGROUND);
+    // A checkerboard shows the faces' distortion itself: no edge lines over it.
+    let edges = pattern.is_none() && show_edges(&projected, faces, ss as f64);
     // The light, in screen axes (right, up, toward the viewer): from the upper left, in front.
     let light = normalized([-0.35, 0.45, 0.82]);
     for (f, &color) in faces.iter().zip(colors) {
@@ -60,7 +88,19 @@ pub fn draw(
             half_width: 0.45 * ss as f64,
             color: shade(color, 0.7),
         });
-        canvas.fill_triangle(p, color, lines);
+        match pattern {
+            Some(pt) => {
+                let corners = f.map(|v| pt.points[v as usize]);
+                let is_dark = |q: [f64; 3]| pt.checker.is_dark(q);
+                let sh = Shading {
+                    corners: &corners,
+                    is_dark: &is_dark,
+                    dark: shade(color, DARK),
+                };
+                canvas.fill_triangle_shaded(p, color, lines, Some(sh));
+            }
+            None => canvas.fill_triangle(p, color, lines),
+        }
     }
     canvas.resolve(ss)
 }
@@ -124,13 +164,9 @@ mod tests {
     #[test]
     fn a_flat_square_from_above_shows_its_two_faces_and_their_edges() {
         let (v, f) = square();
-        let style = Style {
-            view: View::TOP,
-            lit: false,
-            size: 64,
-        };
+        let style = Style::square(View::TOP, false, 64);
         let (red, blue) = ([200, 0, 0], [0, 0, 200]);
-        let p = draw(&v, &f, &[red, blue], style).unwrap();
+        let p = draw(&v, &f, &[red, blue], style, None).unwrap();
         assert_eq!((p.width(), p.height()), (64, 64));
         assert_eq!(pixel(&p, 0, 0), BACKGROUND, "margin");
         // y is down on the picture: face 0 (below the diagonal y = x) is at the lower right.
@@ -142,17 +178,44 @@ mod tests {
     }
 
     #[test]
+    fn a_checkerboard_shows_its_cells_inside_the_faces() {
+        let (v, f) = square();
+        // The initial map: the square itself, 12 cells across.
+        let pattern = Pattern {
+            points: &v,
+            checker: Checker::Plane { cell: 1.0 / 12.0 },
+        };
+        let style = Style {
+            view: View::TOP,
+            lit: false,
+            width: 128,
+            height: 96,
+        };
+        let grey = [200, 200, 200];
+        let p = draw(&v, &f, &[grey; 2], style, Some(pattern)).unwrap();
+        assert_eq!((p.width(), p.height()), (128, 96));
+        // The square spans 88.32 pixels from x = 19.84: a cell is 7.36 pixels. The centres
+        // of two neighbouring cells on the middle row differ, diagonal neighbours match.
+        let at = |i: f64, j: f64| {
+            pixel(
+                &p,
+                (19.84 + 7.36 * (i + 0.5)) as u32,
+                (3.84 + 7.36 * (j + 0.5)) as u32,
+            )
+        };
+        assert_ne!(at(2.0, 5.0), at(3.0, 5.0));
+        assert_eq!(at(2.0, 5.0), at(3.0, 6.0));
+        assert!([at(2.0, 5.0), at(3.0, 5.0)].contains(&grey));
+    }
+
+    #[test]
     fn lighting_darkens_faces_turned_away_from_the_light() {
         let (v, f) = square();
         let colors = [[200, 200, 200]; 2];
         let flat = |view| {
-            let s = Style {
-                view,
-                lit: true,
-                size: 64,
-            };
+            let s = Style::square(view, true, 64);
             // The commonest red value: the faces' interior.
-            let p = draw(&v, &f, &colors, s).unwrap();
+            let p = draw(&v, &f, &colors, s, None).unwrap();
             let mut count = [0usize; 255];
             for c in p.pixels().iter().filter(|c| c.red() != 255) {
                 count[usize::from(c.red())] += 1;
