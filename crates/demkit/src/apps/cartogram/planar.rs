@@ -52,7 +52,7 @@ const DEFAULT_STEPS: usize = 10_000;
 pub fn check_grid(grid: usize) -> Result<()> {
     if !(16..=8192).contains(&grid) || !grid.is_power_of_two() {
         return Err(Error::Argument(format!(
-            "--grid must be a power of two from 16 to 8192, got {grid}"
+            "grid must be a power of two from 16 to 8192, got {grid}"
         )));
     }
     Ok(())

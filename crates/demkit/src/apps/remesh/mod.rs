@@ -78,7 +78,7 @@ pub fn check_vertex_count(n: usize) -> Result<()> {
     if n > MAX_VERTICES {
         let gb = n as f64 * BYTES_PER_VERTEX as f64 / 1e9;
         return Err(Error::Argument(format!(
-            "--vertices {n} would need about {gb:.0} GB of memory; at most {MAX_VERTICES} vertices"
+            "vertices {n} would need about {gb:.0} GB of memory; at most {MAX_VERTICES} vertices"
         )));
     }
     Ok(())
@@ -128,7 +128,7 @@ pub fn remesh_with(
     let least = min_vertices(topo.boundary_loops.len(), topo.genus);
     if n < least {
         return Err(Error::Argument(format!(
-            "--vertices must be at least {least} to keep the surface's topology, got {n}"
+            "vertices must be at least {least} to keep the surface's topology, got {n}"
         )));
     }
     if mapped.len() != input.n_vertices() {
