@@ -12,6 +12,10 @@
 //! ```
 //! let mesh = demkit::generate::square_grid(8, 8, 1.0, 1.0).unwrap();
 //! let surface = demkit::Surface::new(mesh.positions, mesh.faces)?;
+//! // An area-preserving map (population = area), the method chosen by topology (a disk: DEM).
+//! let map = demkit::map(&surface, &demkit::Population::Area, &demkit::MapOptions::default())?;
+//! assert_eq!(map.metrics.flipped_triangles, 0);
+//! // A population given as an expression of the face centroid: twice as dense where x > 0.5.
 //! let population = demkit::Population::Expression("area*(1+(x>0.5))".into());
 //! let map = demkit::map(&surface, &population, &demkit::MapOptions::default())?;
 //! assert!(map.metrics.face_density_var_final < map.metrics.face_density_var_initial);
@@ -27,7 +31,8 @@
 //! - [`qc`]: Beltrami coefficients and the linear Beltrami solver;
 //! - [`init`]: initial maps (boundary flattening, Tutte, locally authalic, the sea);
 //! - [`shape`]: prescribed target shapes of the shape-prescribed DEM;
-//! - [`methods`]: the density-equalizing methods themselves;
+//! - [`methods`]: the density-equalizing methods, by domain (`disk`, `sphere`, `circle`, `torus`),
+//!   all on one iteration (`methods::common`);
 //! - [`metrics`]: the report metrics shared by every method;
 //! - [`population`]: populations from names, files and expressions;
 //! - [`generate`]: synthetic meshes for examples and tests.
