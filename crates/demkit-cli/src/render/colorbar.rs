@@ -36,25 +36,33 @@ impl Scale {
             return vec![a];
         }
         let mut t = vec![a, b];
-        let inside = |v: f64| v > a * 1.001 && v < b / 1.001;
-        if inside(1.0) {
+        let between = log_ticks(a, b);
+        if between.contains(&1.0) {
             t.push(1.0);
         }
-        let steps: &[f64] = if b / a > 100.0 {
-            &[1.0]
-        } else {
-            &[1.0, 2.0, 5.0]
-        };
-        for k in -6..=6 {
-            for m in steps {
-                let v = m * 10f64.powi(k);
-                if inside(v) && v != 1.0 {
-                    t.push(v);
-                }
-            }
-        }
+        t.extend(between.into_iter().filter(|&v| v != 1.0));
         t
     }
+}
+
+/// The 1–2–5 values strictly between `a` and `b` (0 < a < b; only the powers of ten when they
+/// span over two decades), ascending: the ticks of a log axis.
+pub fn log_ticks(a: f64, b: f64) -> Vec<f64> {
+    let steps: &[f64] = if b / a > 100.0 {
+        &[1.0]
+    } else {
+        &[1.0, 2.0, 5.0]
+    };
+    let mut t = Vec::new();
+    for k in -6..=6 {
+        for m in steps {
+            let v = m * 10f64.powi(k);
+            if v > a * 1.001 && v < b / 1.001 {
+                t.push(v);
+            }
+        }
+    }
+    t
 }
 
 /// Where the bar is drawn, in pixels.

@@ -115,19 +115,7 @@ impl Axis {
     /// when the axis spans more than two decades), ascending.
     pub fn ticks(&self) -> Vec<f64> {
         let mut t = vec![1.0 / self.low, self.high];
-        let steps: &[f64] = if self.low * self.high > 100.0 {
-            &[1.0]
-        } else {
-            &[1.0, 2.0, 5.0]
-        };
-        for k in -6..=6 {
-            for m in steps {
-                let v = m * 10f64.powi(k);
-                if v > 1.001 / self.low && v < self.high / 1.001 {
-                    t.push(v);
-                }
-            }
-        }
+        t.extend(super::colorbar::log_ticks(1.0 / self.low, self.high));
         t.sort_by(f64::total_cmp);
         t
     }
