@@ -93,13 +93,20 @@ pub(crate) struct Rules {
     pub max_iter: usize,
     /// The step rule.
     pub step: Step,
-    /// Stationary: the best merit improved by less than `min_gain` (a fraction) over the last
-    /// `window` iterations.
-    pub window: usize,
-    /// See `window`.
-    pub min_gain: f64,
+    /// When slow progress ends the run as stationary (`None`: only a step that cannot move).
+    pub stationary: Option<Stationary>,
     /// Which map to return.
     pub keep: Keep,
+}
+
+/// Stationary: the best merit improved by less than `min_gain` (a fraction) over the last
+/// `window` iterations.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Stationary {
+    /// Iterations looked back over.
+    pub window: usize,
+    /// The smallest relative improvement over `window` iterations that is still progress.
+    pub min_gain: f64,
 }
 
 /// After a move that lowered the merit, the next step may be this many times as long as the
@@ -221,8 +228,9 @@ pub(crate) fn iterate<F: Flow>(
         }
         best_history.push(best_merit);
         let k = best_history.len();
-        let stalled = k > rules.window
-            && best_merit > (1.0 - rules.min_gain) * best_history[k - 1 - rules.window];
+        let stalled = rules.stationary.is_some_and(|s| {
+            k > s.window && best_merit > (1.0 - s.min_gain) * best_history[k - 1 - s.window]
+        });
         let stuck = match rules.step {
             Step::Fixed(_) => moved.fraction == 0.0,
             Step::Adaptive => !(h >= SMALLEST_STEP * first),
@@ -284,8 +292,10 @@ mod tests {
             epsilon: 1e-6,
             max_iter: 100,
             step,
-            window: 5,
-            min_gain: 0.02,
+            stationary: Some(Stationary {
+                window: 5,
+                min_gain: 0.02,
+            }),
             keep: Keep::Best,
         }
     }
@@ -336,7 +346,10 @@ mod tests {
         // than the 6 % asked, so the run stalls after its fifth iteration.
         let mut flow = Toward { fraction: 1.0 };
         let slow = Rules {
-            min_gain: 0.06,
+            stationary: Some(Stationary {
+                window: 5,
+                min_gain: 0.06,
+            }),
             ..rules(Step::Fixed(0.01))
         };
         let out = iterate(&mut flow, 3.0, &slow, &mut |_| {}).unwrap();

@@ -12,7 +12,7 @@ use crate::Result;
 use crate::fem::{DiffusionOperator, VertexFaces, face_gradient_into};
 use crate::geometry::face_areas;
 use crate::methods::iteration::{
-    Flow, Keep, Measured, Moved, Rules, Step, diffusion_time_step, iterate,
+    Flow, Keep, Measured, Moved, Rules, Stationary, Step, diffusion_time_step, iterate,
 };
 use crate::methods::{Progress, StopReason};
 use crate::metrics::normalized_variance;
@@ -122,6 +122,8 @@ pub(crate) struct Density {
     areas: Vec<f64>,
     /// Recoupled vertex density (4.27) of the current map (all vertices).
     rho_v: Vec<f64>,
+    /// Total area of the ROI faces.
+    roi_area: f64,
 }
 
 /// The planar density-equalizing flow of a [`Problem`] (see [`run`]).
@@ -163,15 +165,18 @@ impl Flow for PlanarFlow<'_, '_> {
         Ok(Measured {
             error: sd_over_mean,
             merit,
-            data: Density { areas, rho_v },
+            data: Density {
+                areas,
+                rho_v,
+                roi_area,
+            },
         })
     }
 
     /// δt of (4.39) for the current ROI density.
     fn step_cap(&self, m: &Measured<Density>) -> f64 {
-        let (nv, nf) = (self.problem.n_roi_vertices, self.problem.n_roi_faces);
-        let roi_area: f64 = m.data.areas[..nf].iter().sum();
-        diffusion_time_step(&m.data.rho_v[..nv], roi_area)
+        let nv = self.problem.n_roi_vertices;
+        diffusion_time_step(&m.data.rho_v[..nv], m.data.roi_area)
     }
 
     fn advance(
@@ -182,8 +187,11 @@ impl Flow for PlanarFlow<'_, '_> {
     ) -> Result<Moved<Vec<[f64; 3]>>> {
         let problem = self.problem;
         let (n, nf) = (r.len(), problem.n_roi_faces);
-        let Density { areas, rho_v } = &m.data;
-        let roi_area: f64 = areas[..nf].iter().sum();
+        let Density {
+            areas,
+            rho_v,
+            roi_area,
+        } = &m.data;
         let smoothing_time = dt
             .min(SMOOTHING_FACES * roi_area / nf as f64)
             .min(SMOOTHING_AREA * roi_area);
@@ -258,8 +266,10 @@ pub(crate) fn run(
         epsilon: problem.epsilon,
         max_iter: problem.max_iter,
         step: problem.dt.map_or(Step::Adaptive, Step::Fixed),
-        window: problem.patience,
-        min_gain: STATIONARY_GAIN,
+        stationary: Some(Stationary {
+            window: problem.patience,
+            min_gain: STATIONARY_GAIN,
+        }),
         keep: Keep::Best,
     };
     let out = iterate(&mut flow, r, &rules, progress)?;

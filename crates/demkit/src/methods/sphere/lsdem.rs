@@ -27,7 +27,7 @@ use crate::geometry::rotation::optimal_rotation;
 use crate::geometry::sphere::{mat_vec, normalize};
 use crate::geometry::{norm, sub};
 use crate::methods::iteration::{
-    Flow, Keep, Measured, Moved, Rules, Step, check_parameters, iterate,
+    Flow, Keep, Measured, Moved, Rules, Stationary, Step, check_parameters, iterate,
 };
 use crate::methods::{MapResult, ProgressFn};
 use crate::{Error, Result, TriMesh};
@@ -152,8 +152,10 @@ pub fn run(
         epsilon: config.epsilon,
         max_iter: config.max_iter,
         step: Step::Fixed(config.dt),
-        window: config.window,
-        min_gain: config.min_progress,
+        stationary: Some(Stationary {
+            window: config.window,
+            min_gain: config.min_progress,
+        }),
         keep: Keep::Last,
     };
     let out = iterate(&mut flow, initial.clone(), &rules, progress)?;

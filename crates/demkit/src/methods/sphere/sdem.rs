@@ -24,7 +24,7 @@ use super::input::{check_sphere_input, initial_sphere_map};
 use super::overlap::{OverlapCorrector, advance};
 use crate::geometry::sphere::normalize;
 use crate::methods::iteration::{
-    Flow, Keep, Measured, Moved, Rules, Step, check_parameters, iterate,
+    Flow, Keep, Measured, Moved, Rules, Stationary, Step, check_parameters, iterate,
 };
 use crate::methods::{MapResult, ProgressFn};
 use crate::{Error, Result, TriMesh};
@@ -120,8 +120,10 @@ pub fn run_from(
         epsilon: config.epsilon,
         max_iter: config.max_iter,
         step: Step::Fixed(config.dt),
-        window: config.window,
-        min_gain: config.min_progress,
+        stationary: Some(Stationary {
+            window: config.window,
+            min_gain: config.min_progress,
+        }),
         keep: Keep::Best,
     };
     let out = iterate(&mut flow, initial.clone(), &rules, progress)?;
