@@ -79,21 +79,38 @@ pub struct MethodArgs {
     /// Target torus radii R:r (tdem).
     #[arg(long, allow_hyphen_values = true)]
     pub torus: Option<String>,
-    /// Energy weight α (lsdem; deq, ldeq: the weight of mean |μ| against the density).
-    #[arg(long)]
-    pub alpha: Option<f64>,
-    /// Energy weight β (lsdem).
-    #[arg(long)]
-    pub beta: Option<f64>,
-    /// Energy weight γ (lsdem).
-    #[arg(long)]
-    pub gamma: Option<f64>,
+    /// The energy weights.
+    #[command(flatten)]
+    pub weights: WeightArgs,
     /// Keep the holes' centres and radii (deq, ldeq): the shape-preserving variant.
     #[arg(long)]
     pub no_geometry_update: bool,
     /// Time step (default: the method's own choice).
     #[arg(long)]
     pub dt: Option<f64>,
+    /// When the iteration stops.
+    #[command(flatten)]
+    pub stop: StopArgs,
+}
+
+/// The energy weights of LSDEM (`map --method lsdem`, `register`) and DEQ/LDEQ (α only).
+#[derive(Args, Debug, Clone)]
+pub struct WeightArgs {
+    /// Energy weight α: the density term (lsdem, register); the weight of mean |μ| against the
+    /// density (deq, ldeq). Default: the method's paper value.
+    #[arg(long)]
+    pub alpha: Option<f64>,
+    /// Energy weight β of the harmonic term (lsdem, register; default: the paper's).
+    #[arg(long)]
+    pub beta: Option<f64>,
+    /// Energy weight γ of the landmark term (lsdem, register; default: the paper's).
+    #[arg(long)]
+    pub gamma: Option<f64>,
+}
+
+/// When an iteration stops: its tolerance and its limit.
+#[derive(Args, Debug, Clone)]
+pub struct StopArgs {
     /// Stopping tolerance (default: the method's paper value).
     #[arg(long)]
     pub epsilon: Option<f64>,
@@ -278,21 +295,12 @@ pub struct RegisterArgs {
     /// Output mesh (.obj or .ply): A's faces, vertices on B's surface.
     #[arg(long)]
     pub out: PathBuf,
-    /// LSDEM weight α of the density term (default: the paper's).
-    #[arg(long)]
-    pub alpha: Option<f64>,
-    /// LSDEM weight β of the harmonic term (default: the paper's).
-    #[arg(long)]
-    pub beta: Option<f64>,
-    /// LSDEM weight γ of the landmark term (default: the paper's).
-    #[arg(long)]
-    pub gamma: Option<f64>,
-    /// LSDEM iteration limit (default: the paper's).
-    #[arg(long)]
-    pub max_iter: Option<usize>,
-    /// LSDEM stopping tolerance (default: the paper's).
-    #[arg(long)]
-    pub epsilon: Option<f64>,
+    /// LSDEM's energy weights.
+    #[command(flatten)]
+    pub weights: WeightArgs,
+    /// When LSDEM stops.
+    #[command(flatten)]
+    pub stop: StopArgs,
     /// Write a JSON report here.
     #[arg(long)]
     pub report: Option<PathBuf>,

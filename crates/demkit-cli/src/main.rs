@@ -37,7 +37,7 @@ impl From<demkit::Error> for Failure {
 }
 
 /// The library's parameters and the flags that set them.
-const FLAGS: [(&str, &str); 9] = [
+const FLAGS: [(&str, &str); 13] = [
     ("epsilon", "--epsilon"),
     ("dt", "--dt"),
     ("max_iter", "--max-iter"),
@@ -47,19 +47,30 @@ const FLAGS: [(&str, &str); 9] = [
     ("vertices", "--vertices"),
     ("grid", "--grid"),
     ("shape", "--shape"),
+    ("key", "--key"),
+    ("value", "--value"),
+    ("sphere", "--sphere"),
+    ("project", "--project"),
 ];
 
-/// The error's message, with the library parameter an argument error starts with named by its
-/// flag ("epsilon must be positive" → "--epsilon must be positive").
+/// The error's message, with the library's parameters named by their flags: an argument error
+/// that starts with a parameter ("epsilon must be positive" → "--epsilon must be positive"), and
+/// a parameter in backquotes anywhere in any message ("no column 'gdp' (`value`)" →
+/// "no column 'gdp' (--value)").
 fn with_flag_names(e: &demkit::Error) -> String {
+    let mut message = e.to_string();
     if let demkit::Error::Argument(msg) = e {
         for (parameter, flag) in FLAGS {
             if let Some(rest) = msg.strip_prefix(parameter).filter(|r| r.starts_with(' ')) {
-                return demkit::Error::Argument(format!("{flag}{rest}")).to_string();
+                message = demkit::Error::Argument(format!("{flag}{rest}")).to_string();
+                break;
             }
         }
     }
-    e.to_string()
+    for (parameter, flag) in FLAGS {
+        message = message.replace(&format!("`{parameter}`"), flag);
+    }
+    message
 }
 
 impl Failure {
@@ -183,5 +194,21 @@ mod tests {
             one_line("error: unexpected argument 'x' found\n\nUsage: demkit"),
             "unexpected argument 'x' found"
         );
+    }
+
+    #[test]
+    fn library_parameters_are_named_by_their_flags() {
+        let argument = demkit::Error::Argument("epsilon must be positive, not 0".into());
+        assert!(with_flag_names(&argument).contains("--epsilon must be positive"));
+        // "epsilonx" is no parameter: left as it is.
+        let other = demkit::Error::Argument("epsilonx must be positive".into());
+        assert!(with_flag_names(&other).contains("epsilonx must be positive"));
+        let format = demkit::Error::Format {
+            path: "w.csv".into(),
+            msg: "no column 'gdp' (`value`) in the header code,pop".into(),
+        };
+        let message = with_flag_names(&format);
+        assert!(message.contains("(--value)"), "{message}");
+        assert!(!message.contains('`'), "{message}");
     }
 }

@@ -95,12 +95,12 @@ pub fn compute(
         landmarks,
         torus,
         shape,
-        alpha: a.alpha,
-        beta: a.beta,
-        gamma: a.gamma,
+        alpha: a.weights.alpha,
+        beta: a.weights.beta,
+        gamma: a.weights.gamma,
         dt: a.dt,
-        epsilon: a.epsilon,
-        max_iter: a.max_iter,
+        epsilon: a.stop.epsilon,
+        max_iter: a.stop.max_iter,
         fixed_holes: a.no_geometry_update,
     };
     let bar = Bar::new(quiet, method.name());
@@ -255,15 +255,15 @@ pub fn warn_unused(a: &MethodArgs, m: Method, quiet: bool) {
         ),
         (a.torus.is_some() && m != Method::Tdem, "--torus"),
         (
-            a.alpha.is_some() && !matches!(m, Method::Lsdem | Method::Deq | Method::Ldeq),
+            a.weights.alpha.is_some() && !matches!(m, Method::Lsdem | Method::Deq | Method::Ldeq),
             "--alpha",
         ),
-        (a.beta.is_some() && m != Method::Lsdem, "--beta"),
+        (a.weights.beta.is_some() && m != Method::Lsdem, "--beta"),
         (
             a.no_geometry_update && !matches!(m, Method::Deq | Method::Ldeq),
             "--no-geometry-update",
         ),
-        (a.gamma.is_some() && m != Method::Lsdem, "--gamma"),
+        (a.weights.gamma.is_some() && m != Method::Lsdem, "--gamma"),
         (a.shape.is_some() && m != Method::DemShape, "--shape"),
     ]
     .iter()

@@ -143,10 +143,10 @@ pub fn run(a: &RegisterArgs) -> Result<u8, Failure> {
 /// LSDEM's configuration for registration, with the settings given on the command line.
 fn config(a: &RegisterArgs) -> lsdem::Config {
     let mut c = registration_config();
-    c.alpha = a.alpha.unwrap_or(c.alpha);
-    c.beta = a.beta.unwrap_or(c.beta);
-    c.gamma = a.gamma.unwrap_or(c.gamma);
-    c.max_iter = a.max_iter.unwrap_or(c.max_iter);
-    c.epsilon = a.epsilon.unwrap_or(c.epsilon);
+    c.alpha = a.weights.alpha.unwrap_or(c.alpha);
+    c.beta = a.weights.beta.unwrap_or(c.beta);
+    c.gamma = a.weights.gamma.unwrap_or(c.gamma);
+    c.max_iter = a.stop.max_iter.unwrap_or(c.max_iter);
+    c.epsilon = a.stop.epsilon.unwrap_or(c.epsilon);
     c
 }

@@ -87,8 +87,8 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
 
     // The vertex spacing follows the map's density: DEQ puts it first unless told otherwise.
     let mut m = a.m.clone();
-    if matches!(method, Method::Deq | Method::Ldeq) && m.alpha.is_none() {
-        m.alpha = Some(demkit::apps::remesh::DEQ_ALPHA);
+    if matches!(method, Method::Deq | Method::Ldeq) && m.weights.alpha.is_none() {
+        m.weights.alpha = Some(demkit::apps::remesh::DEQ_ALPHA);
     }
     let c = compute(&surface, method, &m, a.quiet)?;
     let metrics = &c.map.metrics;

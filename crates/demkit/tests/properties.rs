@@ -316,20 +316,8 @@ fn front_door_population(n_faces: usize) -> impl Strategy<Value = demkit::Popula
 fn front_door_options() -> impl Strategy<Value = demkit::MapOptions> {
     use demkit::Method::*;
     (
-        prop::sample::select(vec![
-            Auto,
-            Auto,
-            Auto,
-            Dem,
-            DemShape,
-            Sdem,
-            Lsdem,
-            Deq,
-            Ldeq,
-            Tdem,
-            SphericalConformal,
-            CircleConformal,
-        ]),
+        // Every method, and Auto three times as often as each.
+        prop::sample::select([&[Auto, Auto][..], &demkit::Method::ALL[..]].concat()),
         prop::collection::vec(
             (0usize..40, [-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0]),
             0..3,

@@ -174,9 +174,9 @@ pub fn load(
                 .find(|p| !(-90.0..=90.0).contains(&p[1]))
             {
                 let option = if positions == Positions::Sphere {
-                    "--sphere"
+                    "`sphere`"
                 } else {
-                    "--project"
+                    "`project`"
                 };
                 return Err(crate::Error::Format {
                     path: label,

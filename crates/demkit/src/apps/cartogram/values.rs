@@ -70,7 +70,7 @@ pub fn parse_table(text: &str, path: &str, key: &str, column: Option<&str>) -> R
         parse_err(
             1,
             format!(
-                "no column '{key}' (--key) in the header {}",
+                "no column '{key}' (`key`) in the header {}",
                 names.join(",")
             ),
         )
@@ -80,7 +80,7 @@ pub fn parse_table(text: &str, path: &str, key: &str, column: Option<&str>) -> R
             parse_err(
                 1,
                 format!(
-                    "no column '{c}' (--value) in the header {}",
+                    "no column '{c}' (`value`) in the header {}",
                     names.join(",")
                 ),
             )
@@ -93,7 +93,7 @@ pub fn parse_table(text: &str, path: &str, key: &str, column: Option<&str>) -> R
                     return Err(parse_err(
                         1,
                         format!(
-                            "{} columns besides '{key}': name the value column with --value",
+                            "{} columns besides '{key}': name the value column (`value`)",
                             others.len()
                         ),
                     ));
@@ -360,13 +360,13 @@ mod tests {
                 "id,pop\nA,1\n",
                 "code",
                 None,
-                "v.csv:1: no column 'code' (--key)",
+                "v.csv:1: no column 'code' (`key`)",
             ),
             (
                 "id,pop\nA,1\n",
                 "id",
                 Some("gdp"),
-                "v.csv:1: no column 'gdp' (--value)",
+                "v.csv:1: no column 'gdp' (`value`)",
             ),
             (
                 "id,a,b\nA,1,2\n",
