@@ -47,7 +47,7 @@ pub fn compute(
     quiet: bool,
 ) -> Result<Computed, Failure> {
     let mesh = surface.mesh();
-    let population = match PopulationSpec::parse(&a.population) {
+    let population = match crate::paths::population_spec(&a.population) {
         PopulationSpec::Area => Population::Area,
         PopulationSpec::Uniform => Population::Uniform,
         PopulationSpec::Expr(e) => Population::Expression(e),

@@ -4,6 +4,7 @@
 //! `out.obj`, `./out.obj` and a link to it are one file.
 
 use crate::Failure;
+use demkit::population::PopulationSpec;
 use std::path::{Path, PathBuf};
 
 /// One file of a command, with the option (or argument) that names it.
@@ -18,10 +19,22 @@ pub fn named<'a>(option: &'a str, path: &'a Path) -> Named<'a> {
     Named { option, path }
 }
 
+/// What `--population` says: `area` and `uniform` name populations (a file called `area` is
+/// reached as `./area`); otherwise the name of an existing file is a population file, and
+/// anything else an expression ([`demkit::population::parse`]).
+pub fn population_spec(arg: &str) -> PopulationSpec {
+    match demkit::population::parse(arg) {
+        PopulationSpec::Expr(_) if Path::new(arg).is_file() => {
+            PopulationSpec::File(PathBuf::from(arg))
+        }
+        spec => spec,
+    }
+}
+
 /// The population file of `--population` (when it names one) and the landmark file.
 pub fn method_inputs(m: &crate::args::MethodArgs) -> (Option<PathBuf>, Option<PathBuf>) {
-    let population = match demkit::population::PopulationSpec::parse(&m.population) {
-        demkit::population::PopulationSpec::File(p) => Some(p),
+    let population = match population_spec(&m.population) {
+        PopulationSpec::File(p) => Some(p),
         _ => None,
     };
     (population, m.landmarks.clone())
@@ -184,5 +197,32 @@ mod tests {
         assert!(e.message.contains("does not exist"), "{}", e.message);
         let (a, b) = (d.join("a.obj"), d.join("b.json"));
         assert!(check(&[], &[named("--out", &a), named("--report", &b)]).is_ok());
+    }
+
+    #[test]
+    fn population_names_win_then_existing_files_then_expressions() {
+        let d = dir("population");
+        let file = d.join("pop.txt");
+        std::fs::write(&file, "1\n").unwrap();
+        let name = file.to_str().unwrap();
+        assert_eq!(population_spec(name), PopulationSpec::File(file.clone()));
+        assert_eq!(population_spec("area"), PopulationSpec::Area);
+        assert_eq!(population_spec(" uniform "), PopulationSpec::Uniform);
+        // A directory is not a population file, nor is a file that does not exist.
+        let dir_name = d.to_str().unwrap();
+        assert_eq!(
+            population_spec(dir_name),
+            PopulationSpec::Expr(dir_name.into())
+        );
+        let missing = d.join("missing.txt");
+        let missing = missing.to_str().unwrap();
+        assert_eq!(
+            population_spec(missing),
+            PopulationSpec::Expr(missing.into())
+        );
+        assert_eq!(
+            population_spec("area*(1+(x>0))"),
+            PopulationSpec::Expr("area*(1+(x>0))".into())
+        );
     }
 }

@@ -22,20 +22,25 @@
 //! # Ok::<(), demkit::Error>(())
 //! ```
 //!
-//! Module map (one concept per file):
-//! - [`mesh`]: the triangle mesh, its topology and validation;
-//! - [`io`]: mesh, population and landmark files;
-//! - [`geometry`]: areas, normals, angles, local frames;
-//! - [`fem`]: cotangent Laplacian, lumped mass, face gradient, face→vertex averaging;
-//! - [`linalg`]: sparse assembly over a fixed pattern and cached factorizations;
-//! - [`qc`]: Beltrami coefficients and the linear Beltrami solver;
-//! - [`init`]: initial maps (boundary flattening, Tutte, locally authalic, the sea);
-//! - [`shape`]: prescribed target shapes of the shape-prescribed DEM;
-//! - [`methods`]: the density-equalizing methods, by domain (`disk`, `sphere`, `circle`, `torus`),
-//!   all on one iteration (`methods::common`);
-//! - [`metrics`]: the report metrics shared by every method;
-//! - [`population`]: populations from names, files and expressions;
-//! - [`generate`]: synthetic meshes for examples and tests.
+//! What is API (the rest may change without notice):
+//! - the front door: [`Surface`], [`map`], [`map_with_progress`], [`Map`], [`Domain`],
+//!   [`MapOptions`], [`Method`], [`Population`], [`Error`];
+//! - meshes and files: [`TriMesh`], [`mesh`] (topology, validation, welding), [`io`] (mesh,
+//!   population and landmark files), [`population`] and [`expr`] (populations from names, files
+//!   and expressions), [`generate`] (synthetic meshes);
+//! - results: [`metrics`] (the report's figures, one definition each), [`shape`] (the target
+//!   shapes of DEM onto a shape);
+//! - applications: [`apps::remesh`], [`apps::cartogram`], [`apps::register`],
+//!   [`apps::texture`];
+//! - for those who compose the steps themselves: [`methods`] (each method's `Config` and `run`,
+//!   by domain: `disk`, `sphere`, `circle`, `torus`, all on one iteration, `methods::common`),
+//!   [`init`] (the initial maps: boundary flattening, Tutte, spherical and circle-domain
+//!   conformal maps, the flat torus), [`geometry`] (areas, frames, the torus, point location).
+//!
+//! Internal: the finite-element operators (cotangent Laplacian, lumped mass, face gradient,
+//! face→vertex averaging), the sparse solvers (assembly over a fixed pattern, cached Cholesky,
+//! LU) and the quasi-conformal tools (Beltrami coefficients, the linear Beltrami solver). The
+//! benchmarks reach them through the `internals` feature, which is not a stable API.
 
 // `!(x > 0.0)` is used on purpose: it is true for NaN, which must count as a failure.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]

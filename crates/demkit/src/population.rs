@@ -1,8 +1,11 @@
 //! Populations: one positive value per face, from a name, a file or an expression.
 //!
-//! The command line's `--population area|uniform|FILE|EXPR` is read with [`parse`] and turned
-//! into values with [`face_populations`], which always ends with [`check_population`], so every
-//! population a method receives is finite and positive, one per face.
+//! A population is named ([`PopulationSpec::Area`], [`PopulationSpec::Uniform`]), read from a
+//! file ([`PopulationSpec::File`]) or written as an expression ([`PopulationSpec::Expr`]); text
+//! is read with [`parse`], which never touches the file system (whether an argument names a file
+//! is the caller's decision). [`face_populations`] turns a spec into values and always ends with
+//! [`check_population`], so every population a method receives is finite and positive, one per
+//! face.
 
 use std::path::{Path, PathBuf};
 
@@ -25,7 +28,7 @@ pub enum PopulationSpec {
 }
 
 impl PopulationSpec {
-    /// Reads a `--population` argument; the same as the free function [`parse`].
+    /// Reads a population written as text; the same as the free function [`parse`].
     pub fn parse(s: &str) -> PopulationSpec {
         parse(s)
     }
@@ -34,16 +37,14 @@ impl PopulationSpec {
 /// The variables of a population expression, in the order their values are passed.
 pub const EXPR_VARIABLES: [&str; 4] = ["x", "y", "z", "area"];
 
-/// Reads a `--population` argument: `"area"` and `"uniform"` are the named populations;
-/// otherwise the name of an existing file is a [`PopulationSpec::File`]; anything else is a
-/// [`PopulationSpec::Expr`] (compiled, and possibly refused, by [`face_populations`]).
-///
-/// The names win over files: a file called `area` is reached as `./area`.
+/// Reads a population written as text: `"area"` and `"uniform"` (surrounding white space
+/// ignored) are the named populations, anything else is a [`PopulationSpec::Expr`] (compiled,
+/// and possibly refused, by [`face_populations`]). Text is never taken for a file name: a file
+/// is given as [`PopulationSpec::File`].
 pub fn parse(s: &str) -> PopulationSpec {
     match s.trim() {
         "area" => PopulationSpec::Area,
         "uniform" => PopulationSpec::Uniform,
-        _ if Path::new(s).is_file() => PopulationSpec::File(PathBuf::from(s)),
         _ => PopulationSpec::Expr(s.to_string()),
     }
 }
@@ -70,18 +71,7 @@ pub fn face_populations_at_scale(
     let values = match spec {
         PopulationSpec::Area => (0..n).map(|f| triangle_area(&mesh.corners(f))).collect(),
         PopulationSpec::Uniform => vec![1.0; n],
-        PopulationSpec::File(path) => {
-            let values = read_population_file(path)?;
-            if values.len() != n {
-                return Err(Error::Population(format!(
-                    "population file {} has {} values but the mesh has {} faces",
-                    path.display(),
-                    values.len(),
-                    n
-                )));
-            }
-            values
-        }
+        PopulationSpec::File(path) => read_face_values(path, n, "population file")?,
         PopulationSpec::Expr(source) => {
             let values = expression_populations(source, mesh, exponent)?;
             // Name the face *and* where it is: the user wrote a function of position.
@@ -150,6 +140,22 @@ fn first_bad_value(values: &[f64]) -> Option<(usize, String)> {
             None
         }
     })
+}
+
+/// One value per face of a mesh with `n_faces` faces, from a file in the population-file
+/// format ([`read_population_file`]); `what` names the file in the error when the count is
+/// wrong ("population file x.txt has 3 values but the mesh has 2 faces", [`Error::Population`]).
+/// The values are not checked.
+pub fn read_face_values(path: &Path, n_faces: usize, what: &str) -> Result<Vec<f64>> {
+    let values = read_population_file(path)?;
+    if values.len() != n_faces {
+        return Err(Error::Population(format!(
+            "{what} {} has {} values but the mesh has {n_faces} faces",
+            path.display(),
+            values.len(),
+        )));
+    }
+    Ok(values)
 }
 
 /// Reads a population file: one number per line, in face order; blank lines and everything
@@ -311,23 +317,18 @@ mod tests {
     }
 
     #[test]
-    fn parse_names_files_and_expressions() {
+    fn parse_names_and_expressions_without_touching_files() {
         assert_eq!(parse("area"), PopulationSpec::Area);
         assert_eq!(parse("uniform"), PopulationSpec::Uniform);
         assert_eq!(PopulationSpec::parse(" area "), PopulationSpec::Area);
-        let file = TempFile::new("parse.txt", "1\n");
-        let name = file.0.to_str().unwrap();
-        assert_eq!(parse(name), PopulationSpec::File(file.0.clone()));
         assert_eq!(
             parse("area*(1+3*(x>0))"),
             PopulationSpec::Expr("area*(1+3*(x>0))".into())
         );
-        // A directory is not a population file.
-        let dir = std::env::temp_dir();
-        assert!(matches!(
-            parse(dir.to_str().unwrap()),
-            PopulationSpec::Expr(_)
-        ));
+        // The name of an existing file is text like any other: files are the caller's to name.
+        let file = TempFile::new("parse.txt", "1\n");
+        let name = file.0.to_str().unwrap();
+        assert_eq!(parse(name), PopulationSpec::Expr(name.into()));
     }
 
     #[test]

@@ -18,11 +18,7 @@ fn load(name: &str, population_file: bool) -> (TriMesh, Vec<f64>) {
     let mesh = demkit::io::read_mesh(&data(&format!("genus0/{name}.obj"))).unwrap();
     let (mesh, _) = demkit::mesh::validate::validate(mesh).unwrap();
     let spec = if population_file {
-        PopulationSpec::parse(
-            data(&format!("genus0/{name}.population.txt"))
-                .to_str()
-                .unwrap(),
-        )
+        PopulationSpec::File(data(&format!("genus0/{name}.population.txt")))
     } else {
         PopulationSpec::Area
     };

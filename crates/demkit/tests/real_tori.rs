@@ -45,13 +45,8 @@ fn map_onto_torus(
 ) {
     let mesh = demkit::io::read_mesh(&data(&format!("genus1/{name}.obj"))).unwrap();
     let (mesh, _) = demkit::mesh::validate::validate(mesh).unwrap();
-    let spec = population.unwrap_or_else(|| {
-        PopulationSpec::parse(
-            data(&format!("genus1/{name}.population.txt"))
-                .to_str()
-                .unwrap(),
-        )
-    });
+    let spec = population
+        .unwrap_or_else(|| PopulationSpec::File(data(&format!("genus1/{name}.population.txt"))));
     let population = face_populations(&spec, &mesh).unwrap();
     let torus = radii(name);
     let t0 = Instant::now();
