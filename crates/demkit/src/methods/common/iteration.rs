@@ -8,10 +8,11 @@
 //! - **step** ([`Step`]): a fixed length, every move kept (the papers' explicit iterations); or
 //!   adaptive: the step starts at the flow's longest ([`Flow::step_cap`]), a move that does not
 //!   lower the merit is undone and the step halved, after one that does the next may be twice
-//!   as long as the move actually made (capped again by the flow);
-//! - **stop**: the stopping quantity below ε (tolerance); the best merit improved by less than
-//!   the fraction `min_gain` over the last `window` iterations, or a step that could not move
-//!   the map at all (stationary); the iteration limit (not converged);
+//!   as long as the move actually made (capped again by the flow); or the flow's own (a Newton
+//!   step with its line search), every move kept;
+//! - **stop**: the stopping quantity below ε (tolerance); slow progress by the rule
+//!   [`Stationary`] asks for, or a step that could not move the map at all (stationary); the
+//!   iteration limit (not converged);
 //! - **result** ([`Keep`]): the best map met, or the last one; a map that met the tolerance is
 //!   returned as it is.
 //!
@@ -52,6 +53,13 @@ pub(crate) trait Flow {
     /// Measures `map`.
     fn measure(&mut self, map: &Self::Map) -> Result<Measured<Self::Data>>;
 
+    /// The quantity recorded in the history and shown in progress for a map measured as `m`:
+    /// the stopping quantity, unless the method reports another one (DEQ's Newton stages stop
+    /// on the energy's decrease but report sd/mean of the vertex density, as its flow does).
+    fn shown(&self, m: &Measured<Self::Data>) -> f64 {
+        m.error
+    }
+
     /// The longest step an adaptive iteration may take from a map measured as `m`.
     fn step_cap(&self, _m: &Measured<Self::Data>) -> f64 {
         f64::INFINITY
@@ -73,6 +81,11 @@ pub(crate) enum Step {
     Fixed(f64),
     /// Steps adapted to the flow (see the module docs).
     Adaptive,
+    /// The flow chooses its own step (a Newton step and its line search): the iteration asks
+    /// for a step of 1 and keeps every move. A move of fraction 0 left the map as it was (the
+    /// flow renewed its model instead), which is not the end of the run: such a flow reports
+    /// that it cannot improve the map through its stopping quantity.
+    Own,
 }
 
 /// Which map the iteration returns when it does not meet the tolerance.
@@ -99,14 +112,28 @@ pub(crate) struct Rules {
     pub keep: Keep,
 }
 
-/// Stationary: the best merit improved by less than `min_gain` (a fraction) over the last
-/// `window` iterations.
+/// When slow progress makes a run stationary.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Stationary {
-    /// Iterations looked back over.
-    pub window: usize,
-    /// The smallest relative improvement over `window` iterations that is still progress.
-    pub min_gain: f64,
+pub(crate) enum Stationary {
+    /// The best merit improved by less than the fraction `min_gain` of the best `window`
+    /// iterations earlier: `best_k > (1 − min_gain) · best_{k−window}`.
+    Best {
+        /// Iterations looked back over.
+        window: usize,
+        /// The smallest relative improvement over `window` iterations that is still progress.
+        min_gain: f64,
+    },
+    /// The merit fell by less than the fraction `min_gain` of its current value over the last
+    /// `window` moves, `merit_{j−window} − merit_j < min_gain · merit_j` (iterations that left
+    /// the map as it was do not count): the stop of a minimisation on its objective's
+    /// decrease, where the merit is the objective (DEQ's Newton stages, `docs/deviations.md`).
+    Decrease {
+        /// Moves looked back over.
+        window: usize,
+        /// The smallest decrease over `window` moves, relative to the merit, that is still
+        /// progress.
+        min_gain: f64,
+    },
 }
 
 /// After a move that lowered the merit, the next step may be this many times as long as the
@@ -182,9 +209,12 @@ pub(crate) fn iterate<F: Flow>(
     let mut best = (rules.keep == Keep::Best).then(|| (m.merit, map.clone()));
     let mut best_merit = m.merit;
     let mut best_history = vec![best_merit];
+    // The merit after each of the last moves, and before them ([`Stationary::Decrease`]).
+    let mut moves = std::collections::VecDeque::from([m.merit]);
     let first = match rules.step {
         Step::Fixed(h) => h,
         Step::Adaptive => flow.step_cap(&m),
+        Step::Own => 1.0,
     };
     let mut h = first;
     let mut stop_reason = StopReason::MaxIter;
@@ -194,11 +224,12 @@ pub(crate) fn iterate<F: Flow>(
         let asked = match rules.step {
             Step::Fixed(h) => h,
             Step::Adaptive => h.min(flow.step_cap(&m)),
+            Step::Own => 1.0,
         };
         let moved = flow.advance(&map, &m, asked)?;
         let next = flow.measure(&moved.map)?;
         match rules.step {
-            Step::Fixed(_) => {
+            Step::Fixed(_) | Step::Own => {
                 map = moved.map;
                 m = next;
             }
@@ -209,11 +240,12 @@ pub(crate) fn iterate<F: Flow>(
             }
             Step::Adaptive => h = STEP_SHRINK * moved.fraction * asked,
         }
-        history.push(m.error);
+        let shown = flow.shown(&m);
+        history.push(shown);
         progress(Progress {
             iteration: it,
             max_iter: rules.max_iter,
-            error: m.error,
+            error: shown,
         });
         if m.error < rules.epsilon {
             stop_reason = StopReason::Tolerance;
@@ -228,12 +260,24 @@ pub(crate) fn iterate<F: Flow>(
         }
         best_history.push(best_merit);
         let k = best_history.len();
-        let stalled = rules.stationary.is_some_and(|s| {
-            k > s.window && best_merit > (1.0 - s.min_gain) * best_history[k - 1 - s.window]
-        });
+        let stalled = match rules.stationary {
+            None => false,
+            Some(Stationary::Best { window, min_gain }) => {
+                k > window && best_merit > (1.0 - min_gain) * best_history[k - 1 - window]
+            }
+            Some(Stationary::Decrease { window, min_gain }) if moved.fraction > 0.0 => {
+                moves.push_back(m.merit);
+                if moves.len() > window + 1 {
+                    moves.pop_front();
+                }
+                moves.len() > window && moves[0] - m.merit < min_gain * m.merit
+            }
+            Some(Stationary::Decrease { .. }) => false,
+        };
         let stuck = match rules.step {
             Step::Fixed(_) => moved.fraction == 0.0,
             Step::Adaptive => !(h >= SMALLEST_STEP * first),
+            Step::Own => false,
         };
         if stalled || stuck {
             stop_reason = StopReason::Stationary;
@@ -292,7 +336,7 @@ mod tests {
             epsilon: 1e-6,
             max_iter: 100,
             step,
-            stationary: Some(Stationary {
+            stationary: Some(Stationary::Best {
                 window: 5,
                 min_gain: 0.02,
             }),
@@ -346,7 +390,7 @@ mod tests {
         // than the 6 % asked, so the run stalls after its fifth iteration.
         let mut flow = Toward { fraction: 1.0 };
         let slow = Rules {
-            stationary: Some(Stationary {
+            stationary: Some(Stationary::Best {
                 window: 5,
                 min_gain: 0.06,
             }),

@@ -152,7 +152,7 @@ pub fn run(
         epsilon: config.epsilon,
         max_iter: config.max_iter,
         step: Step::Fixed(config.dt),
-        stationary: Some(Stationary {
+        stationary: Some(Stationary::Best {
             window: config.window,
             min_gain: config.min_progress,
         }),

@@ -120,7 +120,7 @@ pub fn run_from(
         epsilon: config.epsilon,
         max_iter: config.max_iter,
         step: Step::Fixed(config.dt),
-        stationary: Some(Stationary {
+        stationary: Some(Stationary::Best {
             window: config.window,
             min_gain: config.min_progress,
         }),

@@ -44,7 +44,7 @@ mod rounding;
 mod untangle;
 
 use crate::mesh::topology::topology;
-use crate::methods::{MapResult, ProgressFn, StopReason};
+use crate::methods::{MapResult, Progress, ProgressFn, StopReason};
 use crate::{Error, Result, TriMesh};
 use equalize::{Stage, energy_problem};
 use layout::Layout;
@@ -251,7 +251,7 @@ fn chordless_map(
     // made; once there, the energy is minimised with them pinned.
     if !landmarks.is_empty() {
         let fixed_holes = !config.geometry_update;
-        let minimize = |stage, x: &mut [[f64; 3]]| {
+        let minimize = |stage, x: &mut [[f64; 3]], progress: ProgressFn| {
             let problem = energy_problem(
                 mesh,
                 population,
@@ -261,7 +261,7 @@ fn chordless_map(
                 fixed_holes,
                 stage,
             );
-            newton::minimize(&problem, x)
+            newton::minimize(&problem, x, progress)
         };
         let held = layout.on_loops(mesh.n_vertices());
         let targets: Vec<[f64; 2]> = landmarks.iter().map(|l| l.1).collect();
@@ -271,15 +271,28 @@ fn chordless_map(
         };
         let x = &mut map.positions;
         let n = x.len();
+        // Every leg's Newton iterations are numbered after the run's so far.
+        let base = map.history.len();
+        let mut done = base;
         let legs = landmarks::lead(&mesh.faces, x, &held, n, &pinned, &targets, |x| {
-            minimize(leg, x)
+            let out = minimize(leg, x, &mut |p: Progress| {
+                progress(Progress {
+                    iteration: done + p.iteration,
+                    max_iter: base + config.max_iter,
+                    error: p.error,
+                })
+            })?;
+            done += out.history.len();
+            Ok(out)
         })?;
-        let last = minimize(Stage::configured(config), x)?;
+        map.history.extend(&legs.history);
+        let last = minimize(
+            Stage::configured(config),
+            x,
+            &mut equalize::after(progress, map.history.len(), config.max_iter),
+        )?;
         map.iterations += legs.iterations + last.iterations;
-        for stage in [&legs.history, &last.history] {
-            equalize::report(progress, &map.history, stage, config.max_iter);
-            map.history.extend(stage);
-        }
+        map.history.extend(&last.history);
         map.converged = last.converged;
         let missed: Vec<String> = landmarks
             .iter()
