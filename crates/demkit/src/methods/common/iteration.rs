@@ -408,6 +408,105 @@ mod tests {
         assert_eq!(out.iterations, 3);
     }
 
+    /// A minimisation taking its own steps: its merit (the objective) x falls by the factor
+    /// `rate` per move; with `renew`, every second iteration leaves x as it is (the flow
+    /// renews its model). Its stopping quantity is infinite until x < `floor`, then 0, and it
+    /// shows 2x.
+    struct Descent {
+        rate: f64,
+        floor: f64,
+        renew: bool,
+        calls: usize,
+    }
+
+    impl Flow for Descent {
+        type Map = f64;
+        type Data = ();
+        fn measure(&mut self, x: &f64) -> Result<Measured<()>> {
+            Ok(Measured {
+                error: if *x < self.floor { 0.0 } else { f64::INFINITY },
+                merit: *x,
+                data: (),
+            })
+        }
+        fn shown(&self, m: &Measured<()>) -> f64 {
+            2.0 * m.merit
+        }
+        fn advance(&mut self, x: &f64, _m: &Measured<()>, h: f64) -> Result<Moved<f64>> {
+            assert_eq!(h, 1.0);
+            self.calls += 1;
+            Ok(if self.renew && self.calls % 2 == 0 {
+                Moved {
+                    map: *x,
+                    fraction: 0.0,
+                }
+            } else {
+                Moved {
+                    map: x * self.rate,
+                    fraction: 1.0,
+                }
+            })
+        }
+    }
+
+    fn own(min_gain: f64) -> Rules {
+        Rules {
+            epsilon: 1e-3,
+            max_iter: 100,
+            step: Step::Own,
+            stationary: Some(Stationary::Decrease {
+                window: 5,
+                min_gain,
+            }),
+            keep: Keep::Last,
+        }
+    }
+
+    #[test]
+    fn a_decrease_below_the_gain_over_the_window_of_moves_is_stationary() {
+        // x_j = 0.99^j: over 5 moves the decrease is (0.99^−5 − 1) x_j = 0.0515 x_j, below a
+        // gain of 6 %: stationary once the window is full, after the fifth move.
+        let descent = |renew| Descent {
+            rate: 0.99,
+            floor: 0.0,
+            renew,
+            calls: 0,
+        };
+        let out = iterate(&mut descent(false), 1.0, &own(0.06), &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::Stationary);
+        assert_eq!(out.iterations, 5);
+        assert!((out.map - 0.99f64.powi(5)).abs() < 1e-15);
+        // The history records what the flow shows (2x), not its stopping quantity.
+        assert!((out.history[0] - 1.98).abs() < 1e-15);
+        // Iterations that leave the map as it is neither stop the run nor count: the fifth
+        // move is the ninth iteration.
+        let out = iterate(&mut descent(true), 1.0, &own(0.06), &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::Stationary);
+        assert_eq!(out.iterations, 9);
+        assert_eq!(out.history[0], out.history[1]);
+        assert!((out.map - 0.99f64.powi(5)).abs() < 1e-15);
+        // Above the gain (5 %) it never stalls.
+        let out = iterate(&mut descent(false), 1.0, &own(0.05), &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::MaxIter);
+        assert_eq!(out.iterations, 100);
+    }
+
+    #[test]
+    fn a_flow_taking_its_own_steps_stops_on_its_stopping_quantity() {
+        // x halves per move: 0.5^4 = 0.0625 is the first below the floor 0.1.
+        let mut flow = Descent {
+            rate: 0.5,
+            floor: 0.1,
+            renew: false,
+            calls: 0,
+        };
+        let out = iterate(&mut flow, 1.0, &own(1e-3), &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::Tolerance);
+        assert_eq!(out.iterations, 4);
+        assert_eq!(out.map, 0.0625);
+        assert_eq!(out.history, vec![1.0, 0.5, 0.25, 0.125]);
+    }
+
     #[test]
     fn parameters_are_checked_by_name() {
         assert!(check_parameters(1e-3, None, 10).is_ok());
