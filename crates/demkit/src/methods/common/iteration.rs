@@ -112,6 +112,29 @@ pub(crate) struct Rules {
     pub keep: Keep,
 }
 
+impl Rules {
+    /// The rules of an explicit iteration with the fixed time step `dt` (SDEM's Alg. 3.1 and
+    /// LSDEM's Alg. 3.2): stop below `epsilon` or after `max_iter` iterations, stationary when
+    /// the best merit improves by less than `min_gain` over `window` iterations, `keep` the
+    /// map asked for.
+    pub(crate) fn fixed(
+        epsilon: f64,
+        max_iter: usize,
+        dt: f64,
+        window: usize,
+        min_gain: f64,
+        keep: Keep,
+    ) -> Self {
+        Self {
+            epsilon,
+            max_iter,
+            step: Step::Fixed(dt),
+            stationary: Some(Stationary::Best { window, min_gain }),
+            keep,
+        }
+    }
+}
+
 /// When slow progress makes a run stationary.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Stationary {
@@ -158,6 +181,32 @@ pub(crate) struct Outcome<M> {
     pub history: Vec<f64>,
     /// Why the iteration stopped.
     pub stop_reason: StopReason,
+}
+
+impl<M> Outcome<M> {
+    /// The method's result from this outcome: `positions` makes the returned map the method's
+    /// output (normalized onto the sphere, rotated, ...); the map's time runs from `started`.
+    pub(crate) fn into_result(
+        self,
+        method: &'static str,
+        initial: Vec<[f64; 3]>,
+        positions: impl FnOnce(M) -> Vec<[f64; 3]>,
+        started: std::time::Instant,
+        notes: Vec<String>,
+    ) -> super::MapResult {
+        let positions = positions(self.map);
+        let mut result = super::MapResult::new(
+            method,
+            positions,
+            initial,
+            self.stop_reason,
+            self.iterations,
+            self.history,
+        );
+        result.time_map = started.elapsed().as_secs_f64();
+        result.notes = notes;
+        result
+    }
 }
 
 /// Checks the parameters every method shares: ε positive, a fixed time step positive, at least
@@ -435,7 +484,7 @@ mod tests {
         fn advance(&mut self, x: &f64, _m: &Measured<()>, h: f64) -> Result<Moved<f64>> {
             assert_eq!(h, 1.0);
             self.calls += 1;
-            Ok(if self.renew && self.calls % 2 == 0 {
+            Ok(if self.renew && self.calls.is_multiple_of(2) {
                 Moved {
                     map: *x,
                     fraction: 0.0,

@@ -153,22 +153,36 @@ pub fn run(
 ) -> Result<MapResult> {
     check_config(config)?;
     let loops = circle_input(mesh, population, "deq")?;
-    circle_domain_map(mesh, population, &loops, &[], config, "deq", progress)
+    let request = Request {
+        loops: &loops,
+        landmarks: &[],
+        config,
+        method: "deq",
+    };
+    circle_domain_map(mesh, population, &request, progress)
 }
 
-/// The whole method for DEQ (no `landmarks`) and LDEQ (interior vertices sent to planar
-/// targets inside the unit disk; checked by the caller). `loops` come from [`circle_input`].
-/// A mesh whose holes have chords ([`chords`]) is mapped with them split; the result then
-/// carries the refined surface.
+/// What DEQ or LDEQ is asked to do with a mesh and its population.
+pub(crate) struct Request<'a> {
+    /// The boundary loops, the outer one first ([`circle_input`]).
+    pub loops: &'a [Vec<u32>],
+    /// LDEQ's landmarks: interior vertices and their planar targets inside the unit disk
+    /// (checked by the caller); none for DEQ.
+    pub landmarks: &'a [(usize, [f64; 2])],
+    pub config: &'a Config,
+    /// The method's name in the report.
+    pub method: &'static str,
+}
+
+/// The whole method for DEQ and LDEQ ([`Request`]). A mesh whose holes have chords
+/// ([`chords`]) is mapped with them split; the result then carries the refined surface.
 pub(crate) fn circle_domain_map(
     mesh: &TriMesh,
     population: &[f64],
-    loops: &[Vec<u32>],
-    landmarks: &[(usize, [f64; 2])],
-    config: &Config,
-    method: &'static str,
+    request: &Request,
     progress: ProgressFn,
 ) -> Result<MapResult> {
+    let loops = request.loops;
     let chords = chords::of_holes(mesh.n_vertices(), &mesh.faces, loops);
     let refined = (!chords.is_empty()).then(|| {
         let refinement = crate::mesh::split::split_edges(mesh, &chords);
@@ -179,15 +193,7 @@ pub(crate) fn circle_domain_map(
         Some((r, p)) => (&r.mesh, &p[..]),
         None => (mesh, population),
     };
-    let mut result = chordless_map(
-        surface,
-        surface_population,
-        loops,
-        landmarks,
-        config,
-        method,
-        progress,
-    )?;
+    let mut result = chordless_map(surface, surface_population, request, progress)?;
     let Some((refinement, refined_population)) = refined else {
         return Ok(result);
     };
@@ -215,12 +221,15 @@ pub(crate) fn circle_domain_map(
 fn chordless_map(
     mesh: &TriMesh,
     population: &[f64],
-    loops: &[Vec<u32>],
-    landmarks: &[(usize, [f64; 2])],
-    config: &Config,
-    method: &'static str,
+    request: &Request,
     progress: ProgressFn,
 ) -> Result<MapResult> {
+    let Request {
+        loops,
+        landmarks,
+        config,
+        method,
+    } = *request;
     let t0 = Instant::now();
     let layout = Layout::new(mesh, loops);
     let holes: Vec<Vec<u32>> = layout.holes.iter().map(|h| h.boundary.clone()).collect();
