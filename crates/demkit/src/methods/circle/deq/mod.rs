@@ -162,13 +162,15 @@ pub fn run(
     circle_domain_map(mesh, population, &request, progress)
 }
 
-/// What DEQ or LDEQ is asked to do with a mesh and its population.
+/// What DEQ (models (4.2), Algorithms 5.1–5.4) or LDEQ (model (4.7)) is asked to do with a
+/// mesh and its population.
 pub(crate) struct Request<'a> {
     /// The boundary loops, the outer one first ([`circle_input`]).
     pub loops: &'a [Vec<u32>],
     /// LDEQ's landmarks: interior vertices and their planar targets inside the unit disk
     /// (checked by the caller); none for DEQ.
     pub landmarks: &'a [(usize, [f64; 2])],
+    /// The parameters (α, ε, the iteration limit, the geometry update of §5.1.4).
     pub config: &'a Config,
     /// The method's name in the report.
     pub method: &'static str,

@@ -243,7 +243,8 @@ struct Energy {
     spread: f64,
 }
 
-/// Projected Newton on the DEQ energy as a flow of the density-equalizing iteration
+/// Projected Newton on the DEQ energy (model (4.2) in its per-face form, in place of
+/// Algorithm 5.2's Beltrami descent) as a flow of the density-equalizing iteration
 /// ([`iterate`]): the merit is the energy, the stopping quantity the decrease Newton's method
 /// can still make, and one advance is one Newton step with its line search. The flow keeps
 /// the factorization, its age (chord steps) and the Levenberg–Marquardt damping from one step
