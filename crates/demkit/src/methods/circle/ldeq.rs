@@ -5,7 +5,7 @@
 //! minimisation (see `deq`). A landmark that cannot reach its target bijectively (for instance one whose
 //! target lies in a hole) is reported, and the run does not count as converged.
 
-use super::deq::{self, circle_domain_map, circle_input};
+use super::deq::{self, Request, circle_domain_map, circle_input};
 use crate::methods::{MapResult, ProgressFn};
 use crate::{Error, Result, TriMesh};
 
@@ -61,15 +61,13 @@ pub fn run(
     deq::check_config(&config.deq)?;
     let loops = circle_input(mesh, population, "ldeq")?;
     let targets = check_landmarks(mesh, &loops, landmarks)?;
-    circle_domain_map(
-        mesh,
-        population,
-        &loops,
-        &targets,
-        &config.deq,
-        "ldeq",
-        progress,
-    )
+    let request = Request {
+        loops: &loops,
+        landmarks: &targets,
+        config: &config.deq,
+        method: "ldeq",
+    };
+    circle_domain_map(mesh, population, &request, progress)
 }
 
 #[cfg(test)]

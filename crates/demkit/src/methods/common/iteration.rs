@@ -8,10 +8,11 @@
 //! - **step** ([`Step`]): a fixed length, every move kept (the papers' explicit iterations); or
 //!   adaptive: the step starts at the flow's longest ([`Flow::step_cap`]), a move that does not
 //!   lower the merit is undone and the step halved, after one that does the next may be twice
-//!   as long as the move actually made (capped again by the flow);
-//! - **stop**: the stopping quantity below ε (tolerance); the best merit improved by less than
-//!   the fraction `min_gain` over the last `window` iterations, or a step that could not move
-//!   the map at all (stationary); the iteration limit (not converged);
+//!   as long as the move actually made (capped again by the flow); or the flow's own (a Newton
+//!   step with its line search), every move kept;
+//! - **stop**: the stopping quantity below ε (tolerance); slow progress by the rule
+//!   [`Stationary`] asks for, or a step that could not move the map at all (stationary); the
+//!   iteration limit (not converged);
 //! - **result** ([`Keep`]): the best map met, or the last one; a map that met the tolerance is
 //!   returned as it is.
 //!
@@ -52,6 +53,13 @@ pub(crate) trait Flow {
     /// Measures `map`.
     fn measure(&mut self, map: &Self::Map) -> Result<Measured<Self::Data>>;
 
+    /// The quantity recorded in the history and shown in progress for a map measured as `m`:
+    /// the stopping quantity, unless the method reports another one (DEQ's Newton stages stop
+    /// on the energy's decrease but report sd/mean of the vertex density, as its flow does).
+    fn shown(&self, m: &Measured<Self::Data>) -> f64 {
+        m.error
+    }
+
     /// The longest step an adaptive iteration may take from a map measured as `m`.
     fn step_cap(&self, _m: &Measured<Self::Data>) -> f64 {
         f64::INFINITY
@@ -73,6 +81,11 @@ pub(crate) enum Step {
     Fixed(f64),
     /// Steps adapted to the flow (see the module docs).
     Adaptive,
+    /// The flow chooses its own step (a Newton step and its line search): the iteration asks
+    /// for a step of 1 and keeps every move. A move of fraction 0 left the map as it was (the
+    /// flow renewed its model instead), which is not the end of the run: such a flow reports
+    /// that it cannot improve the map through its stopping quantity.
+    Own,
 }
 
 /// Which map the iteration returns when it does not meet the tolerance.
@@ -99,14 +112,51 @@ pub(crate) struct Rules {
     pub keep: Keep,
 }
 
-/// Stationary: the best merit improved by less than `min_gain` (a fraction) over the last
-/// `window` iterations.
+impl Rules {
+    /// The rules of an explicit iteration with the fixed time step `dt` (SDEM's Alg. 3.1 and
+    /// LSDEM's Alg. 3.2): stop below `epsilon` or after `max_iter` iterations, stationary when
+    /// the best merit improves by less than `min_gain` over `window` iterations, `keep` the
+    /// map asked for.
+    pub(crate) fn fixed(
+        epsilon: f64,
+        max_iter: usize,
+        dt: f64,
+        window: usize,
+        min_gain: f64,
+        keep: Keep,
+    ) -> Self {
+        Self {
+            epsilon,
+            max_iter,
+            step: Step::Fixed(dt),
+            stationary: Some(Stationary::Best { window, min_gain }),
+            keep,
+        }
+    }
+}
+
+/// When slow progress makes a run stationary.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Stationary {
-    /// Iterations looked back over.
-    pub window: usize,
-    /// The smallest relative improvement over `window` iterations that is still progress.
-    pub min_gain: f64,
+pub(crate) enum Stationary {
+    /// The best merit improved by less than the fraction `min_gain` of the best `window`
+    /// iterations earlier: `best_k > (1 − min_gain) · best_{k−window}`.
+    Best {
+        /// Iterations looked back over.
+        window: usize,
+        /// The smallest relative improvement over `window` iterations that is still progress.
+        min_gain: f64,
+    },
+    /// The merit fell by less than the fraction `min_gain` of its current value over the last
+    /// `window` moves, `merit_{j−window} − merit_j < min_gain · merit_j` (iterations that left
+    /// the map as it was do not count): the stop of a minimisation on its objective's
+    /// decrease, where the merit is the objective (DEQ's Newton stages, `docs/deviations.md`).
+    Decrease {
+        /// Moves looked back over.
+        window: usize,
+        /// The smallest decrease over `window` moves, relative to the merit, that is still
+        /// progress.
+        min_gain: f64,
+    },
 }
 
 /// After a move that lowered the merit, the next step may be this many times as long as the
@@ -131,6 +181,32 @@ pub(crate) struct Outcome<M> {
     pub history: Vec<f64>,
     /// Why the iteration stopped.
     pub stop_reason: StopReason,
+}
+
+impl<M> Outcome<M> {
+    /// The method's result from this outcome: `positions` makes the returned map the method's
+    /// output (normalized onto the sphere, rotated, ...); the map's time runs from `started`.
+    pub(crate) fn into_result(
+        self,
+        method: &'static str,
+        initial: Vec<[f64; 3]>,
+        positions: impl FnOnce(M) -> Vec<[f64; 3]>,
+        started: std::time::Instant,
+        notes: Vec<String>,
+    ) -> super::MapResult {
+        let positions = positions(self.map);
+        let mut result = super::MapResult::new(
+            method,
+            positions,
+            initial,
+            self.stop_reason,
+            self.iterations,
+            self.history,
+        );
+        result.time_map = started.elapsed().as_secs_f64();
+        result.notes = notes;
+        result
+    }
 }
 
 /// Checks the parameters every method shares: ε positive, a fixed time step positive, at least
@@ -182,9 +258,12 @@ pub(crate) fn iterate<F: Flow>(
     let mut best = (rules.keep == Keep::Best).then(|| (m.merit, map.clone()));
     let mut best_merit = m.merit;
     let mut best_history = vec![best_merit];
+    // The merit after each of the last moves, and before them ([`Stationary::Decrease`]).
+    let mut moves = std::collections::VecDeque::from([m.merit]);
     let first = match rules.step {
         Step::Fixed(h) => h,
         Step::Adaptive => flow.step_cap(&m),
+        Step::Own => 1.0,
     };
     let mut h = first;
     let mut stop_reason = StopReason::MaxIter;
@@ -194,11 +273,12 @@ pub(crate) fn iterate<F: Flow>(
         let asked = match rules.step {
             Step::Fixed(h) => h,
             Step::Adaptive => h.min(flow.step_cap(&m)),
+            Step::Own => 1.0,
         };
         let moved = flow.advance(&map, &m, asked)?;
         let next = flow.measure(&moved.map)?;
         match rules.step {
-            Step::Fixed(_) => {
+            Step::Fixed(_) | Step::Own => {
                 map = moved.map;
                 m = next;
             }
@@ -209,11 +289,12 @@ pub(crate) fn iterate<F: Flow>(
             }
             Step::Adaptive => h = STEP_SHRINK * moved.fraction * asked,
         }
-        history.push(m.error);
+        let shown = flow.shown(&m);
+        history.push(shown);
         progress(Progress {
             iteration: it,
             max_iter: rules.max_iter,
-            error: m.error,
+            error: shown,
         });
         if m.error < rules.epsilon {
             stop_reason = StopReason::Tolerance;
@@ -228,12 +309,24 @@ pub(crate) fn iterate<F: Flow>(
         }
         best_history.push(best_merit);
         let k = best_history.len();
-        let stalled = rules.stationary.is_some_and(|s| {
-            k > s.window && best_merit > (1.0 - s.min_gain) * best_history[k - 1 - s.window]
-        });
+        let stalled = match rules.stationary {
+            None => false,
+            Some(Stationary::Best { window, min_gain }) => {
+                k > window && best_merit > (1.0 - min_gain) * best_history[k - 1 - window]
+            }
+            Some(Stationary::Decrease { window, min_gain }) if moved.fraction > 0.0 => {
+                moves.push_back(m.merit);
+                if moves.len() > window + 1 {
+                    moves.pop_front();
+                }
+                moves.len() > window && moves[0] - m.merit < min_gain * m.merit
+            }
+            Some(Stationary::Decrease { .. }) => false,
+        };
         let stuck = match rules.step {
             Step::Fixed(_) => moved.fraction == 0.0,
             Step::Adaptive => !(h >= SMALLEST_STEP * first),
+            Step::Own => false,
         };
         if stalled || stuck {
             stop_reason = StopReason::Stationary;
@@ -292,7 +385,7 @@ mod tests {
             epsilon: 1e-6,
             max_iter: 100,
             step,
-            stationary: Some(Stationary {
+            stationary: Some(Stationary::Best {
                 window: 5,
                 min_gain: 0.02,
             }),
@@ -346,7 +439,7 @@ mod tests {
         // than the 6 % asked, so the run stalls after its fifth iteration.
         let mut flow = Toward { fraction: 1.0 };
         let slow = Rules {
-            stationary: Some(Stationary {
+            stationary: Some(Stationary::Best {
                 window: 5,
                 min_gain: 0.06,
             }),
@@ -362,6 +455,105 @@ mod tests {
         let out = iterate(&mut flow, 3.0, &limited, &mut |_| {}).unwrap();
         assert_eq!(out.stop_reason, StopReason::MaxIter);
         assert_eq!(out.iterations, 3);
+    }
+
+    /// A minimisation taking its own steps: its merit (the objective) x falls by the factor
+    /// `rate` per move; with `renew`, every second iteration leaves x as it is (the flow
+    /// renews its model). Its stopping quantity is infinite until x < `floor`, then 0, and it
+    /// shows 2x.
+    struct Descent {
+        rate: f64,
+        floor: f64,
+        renew: bool,
+        calls: usize,
+    }
+
+    impl Flow for Descent {
+        type Map = f64;
+        type Data = ();
+        fn measure(&mut self, x: &f64) -> Result<Measured<()>> {
+            Ok(Measured {
+                error: if *x < self.floor { 0.0 } else { f64::INFINITY },
+                merit: *x,
+                data: (),
+            })
+        }
+        fn shown(&self, m: &Measured<()>) -> f64 {
+            2.0 * m.merit
+        }
+        fn advance(&mut self, x: &f64, _m: &Measured<()>, h: f64) -> Result<Moved<f64>> {
+            assert_eq!(h, 1.0);
+            self.calls += 1;
+            Ok(if self.renew && self.calls.is_multiple_of(2) {
+                Moved {
+                    map: *x,
+                    fraction: 0.0,
+                }
+            } else {
+                Moved {
+                    map: x * self.rate,
+                    fraction: 1.0,
+                }
+            })
+        }
+    }
+
+    fn own(min_gain: f64) -> Rules {
+        Rules {
+            epsilon: 1e-3,
+            max_iter: 100,
+            step: Step::Own,
+            stationary: Some(Stationary::Decrease {
+                window: 5,
+                min_gain,
+            }),
+            keep: Keep::Last,
+        }
+    }
+
+    #[test]
+    fn a_decrease_below_the_gain_over_the_window_of_moves_is_stationary() {
+        // x_j = 0.99^j: over 5 moves the decrease is (0.99^−5 − 1) x_j = 0.0515 x_j, below a
+        // gain of 6 %: stationary once the window is full, after the fifth move.
+        let descent = |renew| Descent {
+            rate: 0.99,
+            floor: 0.0,
+            renew,
+            calls: 0,
+        };
+        let out = iterate(&mut descent(false), 1.0, &own(0.06), &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::Stationary);
+        assert_eq!(out.iterations, 5);
+        assert!((out.map - 0.99f64.powi(5)).abs() < 1e-15);
+        // The history records what the flow shows (2x), not its stopping quantity.
+        assert!((out.history[0] - 1.98).abs() < 1e-15);
+        // Iterations that leave the map as it is neither stop the run nor count: the fifth
+        // move is the ninth iteration.
+        let out = iterate(&mut descent(true), 1.0, &own(0.06), &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::Stationary);
+        assert_eq!(out.iterations, 9);
+        assert_eq!(out.history[0], out.history[1]);
+        assert!((out.map - 0.99f64.powi(5)).abs() < 1e-15);
+        // Above the gain (5 %) it never stalls.
+        let out = iterate(&mut descent(false), 1.0, &own(0.05), &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::MaxIter);
+        assert_eq!(out.iterations, 100);
+    }
+
+    #[test]
+    fn a_flow_taking_its_own_steps_stops_on_its_stopping_quantity() {
+        // x halves per move: 0.5^4 = 0.0625 is the first below the floor 0.1.
+        let mut flow = Descent {
+            rate: 0.5,
+            floor: 0.1,
+            renew: false,
+            calls: 0,
+        };
+        let out = iterate(&mut flow, 1.0, &own(1e-3), &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::Tolerance);
+        assert_eq!(out.iterations, 4);
+        assert_eq!(out.map, 0.0625);
+        assert_eq!(out.history, vec![1.0, 0.5, 0.25, 0.125]);
     }
 
     #[test]

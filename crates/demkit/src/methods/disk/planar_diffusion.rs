@@ -266,7 +266,7 @@ pub(crate) fn run(
         epsilon: problem.epsilon,
         max_iter: problem.max_iter,
         step: problem.dt.map_or(Step::Adaptive, Step::Fixed),
-        stationary: Some(Stationary {
+        stationary: Some(Stationary::Best {
             window: problem.patience,
             min_gain: STATIONARY_GAIN,
         }),

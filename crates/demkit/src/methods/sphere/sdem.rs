@@ -23,9 +23,7 @@ use super::density::{Density, SphereDiffusion};
 use super::input::{check_sphere_input, initial_sphere_map};
 use super::overlap::{OverlapCorrector, advance};
 use crate::geometry::sphere::normalize;
-use crate::methods::iteration::{
-    Flow, Keep, Measured, Moved, Rules, Stationary, Step, check_parameters, iterate,
-};
+use crate::methods::iteration::{Flow, Keep, Measured, Moved, Rules, check_parameters, iterate};
 use crate::methods::{MapResult, ProgressFn};
 use crate::{Error, Result, TriMesh};
 use std::time::Instant;
@@ -116,16 +114,14 @@ pub fn run_from(
         diffusion_time: config.dt,
         corrected: 0,
     };
-    let rules = Rules {
-        epsilon: config.epsilon,
-        max_iter: config.max_iter,
-        step: Step::Fixed(config.dt),
-        stationary: Some(Stationary {
-            window: config.window,
-            min_gain: config.min_progress,
-        }),
-        keep: Keep::Best,
-    };
+    let rules = Rules::fixed(
+        config.epsilon,
+        config.max_iter,
+        config.dt,
+        config.window,
+        config.min_progress,
+        Keep::Best,
+    );
     let out = iterate(&mut flow, initial.clone(), &rules, progress)?;
     if flow.corrected > 0 {
         notes.push(format!(
@@ -133,12 +129,8 @@ pub fn run_from(
             flow.corrected
         ));
     }
-    let (stop_reason, iterations, history) = (out.stop_reason, out.iterations, out.history);
-    let positions = out.map.into_iter().map(normalize).collect();
-    let mut result = MapResult::new("sdem", positions, initial, stop_reason, iterations, history);
-    result.time_map = t1.elapsed().as_secs_f64();
-    result.notes = notes;
-    Ok(result)
+    let positions = |x: Vec<[f64; 3]>| x.into_iter().map(normalize).collect();
+    Ok(out.into_result("sdem", initial, positions, t1, notes))
 }
 
 /// SDEM's flow (Alg. 3.1 lines 3–8) on the shared skeleton.
@@ -210,19 +202,25 @@ mod tests {
     use crate::methods::StopReason;
     use crate::metrics::{Domain, compute};
 
+    /// SDEM at the defaults from the identity map of `mesh` (a unit sphere) instead of its
+    /// spherical conformal map.
+    fn from_identity(mesh: &TriMesh, pop: &[f64]) -> MapResult {
+        run_from(
+            mesh,
+            pop,
+            mesh.positions.clone(),
+            &Config::default(),
+            &mut |_| {},
+        )
+        .unwrap()
+    }
+
     #[test]
     fn equal_density_stops_at_once() {
         // The icosphere onto itself with its own face areas as population: ρ is exactly 1.
         let mesh = icosphere(3).unwrap();
         let pop = face_areas(&mesh.positions, &mesh.faces);
-        let r = run_from(
-            &mesh,
-            &pop,
-            mesh.positions.clone(),
-            &Config::default(),
-            &mut |_| {},
-        )
-        .unwrap();
+        let r = from_identity(&mesh, &pop);
         assert_eq!(r.iterations, 0);
         assert_eq!(r.stop_reason, StopReason::Tolerance);
         for (a, b) in r.positions.iter().zip(&mesh.positions) {
@@ -254,14 +252,7 @@ mod tests {
         assert_eq!(m.flipped_triangles, 0);
         assert!(m.density_var_final <= 1e-4, "{m:?}");
         // From the identity map the density is far from equal; the flow equalizes it too.
-        let r = run_from(
-            &mesh,
-            &pop,
-            mesh.positions.clone(),
-            &Config::default(),
-            &mut |_| {},
-        )
-        .unwrap();
+        let r = from_identity(&mesh, &pop);
         let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Sphere, None);
         assert!(m.density_var_initial > 0.1, "{m:?}");
         assert!(m.density_var_final <= 1e-4, "{m:?}");

@@ -11,8 +11,8 @@ use super::patch::Patch;
 use super::{Config, newton, repair};
 use crate::fem::DirichletSystem;
 use crate::geometry::face_areas;
-use crate::methods::ProgressFn;
 use crate::methods::disk::planar_diffusion::{self, Problem};
+use crate::methods::{Progress, ProgressFn};
 use crate::{Result, TriMesh};
 
 /// The density-equalizing iteration stops once sd/mean of the vertex density is below this;
@@ -138,6 +138,7 @@ fn through_coarse(
     let Some(mut y) = coarse.prolong(&g.positions, mesh, population, layout)? else {
         return Ok(None);
     };
+    let mut history = g.history;
     let local = repair::repair(
         mesh,
         population,
@@ -145,7 +146,9 @@ fn through_coarse(
         &mut y,
         config.alpha,
         config.epsilon,
+        &mut after(progress, history.len(), config.max_iter),
     )?;
+    history.extend(&local.history);
     let holes = &loops[1..];
     let fine = newton::minimize(
         &energy_problem(
@@ -158,12 +161,9 @@ fn through_coarse(
             Stage::configured(config),
         ),
         &mut y,
+        &mut after(progress, history.len(), config.max_iter),
     )?;
-    let mut history = g.history;
-    for stage in [&local.history, &fine.history] {
-        report(progress, &history, stage, config.max_iter);
-        history.extend(stage);
-    }
+    history.extend(&fine.history);
     Ok(Some(Equalized {
         positions: y,
         iterations: g.iterations + local.iterations + fine.iterations,
@@ -172,16 +172,20 @@ fn through_coarse(
     }))
 }
 
-/// Reports a minimisation's `stage` history (sd/mean of the vertex density, the quantity of the
-/// density-equalizing iteration before it) to `progress`, numbered after the `done` ones; the
-/// limit shown is the iterations done plus the minimisation's own limit.
-pub(super) fn report(progress: ProgressFn, done: &[f64], stage: &[f64], max_iter: usize) {
-    for (k, &error) in stage.iter().enumerate() {
-        progress(crate::methods::Progress {
-            iteration: done.len() + k + 1,
-            max_iter: done.len() + max_iter,
-            error,
-        });
+/// The progress of a stage that follows `done` iterations of the run (sd/mean of the vertex
+/// density, the quantity of the density-equalizing iteration before it), passed on to
+/// `progress` numbered after them; the limit shown is the iterations done plus `max_iter`.
+pub(super) fn after<'p>(
+    progress: &'p mut dyn FnMut(Progress),
+    done: usize,
+    max_iter: usize,
+) -> impl FnMut(Progress) + 'p {
+    move |p| {
+        progress(Progress {
+            iteration: done + p.iteration,
+            max_iter: done + max_iter,
+            error: p.error,
+        })
     }
 }
 
@@ -256,24 +260,26 @@ pub(super) fn direct(
     let mut x = flow.positions;
     x.truncate(n_surface);
 
-    let minimize = |stage, x: &mut Vec<[f64; 3]>| {
-        let fixed_holes = !config.geometry_update;
-        let problem = energy_problem(mesh, population, layout, &holes, &[], fixed_holes, stage);
-        newton::minimize(&problem, x)
-    };
+    let fixed_holes = !config.geometry_update;
     let log_stage = Stage {
         misfit: Misfit::Log,
         alpha: 0.0,
         max_iterations: LOG_STAGE_ITERATIONS,
         tolerance: LOG_STAGE_TOLERANCE,
     };
-    let log = minimize(log_stage, &mut x)?;
-    let fine = minimize(Stage::configured(config), &mut x)?;
     let mut history = flow.history;
-    for stage in [&log.history, &fine.history] {
-        report(progress, &history, stage, config.max_iter);
-        history.extend(stage);
+    let mut stages = Vec::with_capacity(2);
+    for stage in [log_stage, Stage::configured(config)] {
+        let problem = energy_problem(mesh, population, layout, &holes, &[], fixed_holes, stage);
+        let out = newton::minimize(
+            &problem,
+            &mut x,
+            &mut after(progress, history.len(), config.max_iter),
+        )?;
+        history.extend(&out.history);
+        stages.push(out);
     }
+    let [log, fine] = [&stages[0], &stages[1]];
     Ok(Equalized {
         positions: x,
         iterations: flow.iterations + log.iterations + fine.iterations,

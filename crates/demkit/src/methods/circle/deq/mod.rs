@@ -44,7 +44,7 @@ mod rounding;
 mod untangle;
 
 use crate::mesh::topology::topology;
-use crate::methods::{MapResult, ProgressFn, StopReason};
+use crate::methods::{MapResult, Progress, ProgressFn, StopReason};
 use crate::{Error, Result, TriMesh};
 use equalize::{Stage, energy_problem};
 use layout::Layout;
@@ -153,22 +153,38 @@ pub fn run(
 ) -> Result<MapResult> {
     check_config(config)?;
     let loops = circle_input(mesh, population, "deq")?;
-    circle_domain_map(mesh, population, &loops, &[], config, "deq", progress)
+    let request = Request {
+        loops: &loops,
+        landmarks: &[],
+        config,
+        method: "deq",
+    };
+    circle_domain_map(mesh, population, &request, progress)
 }
 
-/// The whole method for DEQ (no `landmarks`) and LDEQ (interior vertices sent to planar
-/// targets inside the unit disk; checked by the caller). `loops` come from [`circle_input`].
-/// A mesh whose holes have chords ([`chords`]) is mapped with them split; the result then
-/// carries the refined surface.
+/// What DEQ (models (4.2), Algorithms 5.1–5.4) or LDEQ (model (4.7)) is asked to do with a
+/// mesh and its population.
+pub(crate) struct Request<'a> {
+    /// The boundary loops, the outer one first ([`circle_input`]).
+    pub loops: &'a [Vec<u32>],
+    /// LDEQ's landmarks: interior vertices and their planar targets inside the unit disk
+    /// (checked by the caller); none for DEQ.
+    pub landmarks: &'a [(usize, [f64; 2])],
+    /// The parameters (α, ε, the iteration limit, the geometry update of §5.1.4).
+    pub config: &'a Config,
+    /// The method's name in the report.
+    pub method: &'static str,
+}
+
+/// The whole method for DEQ and LDEQ ([`Request`]). A mesh whose holes have chords
+/// ([`chords`]) is mapped with them split; the result then carries the refined surface.
 pub(crate) fn circle_domain_map(
     mesh: &TriMesh,
     population: &[f64],
-    loops: &[Vec<u32>],
-    landmarks: &[(usize, [f64; 2])],
-    config: &Config,
-    method: &'static str,
+    request: &Request,
     progress: ProgressFn,
 ) -> Result<MapResult> {
+    let loops = request.loops;
     let chords = chords::of_holes(mesh.n_vertices(), &mesh.faces, loops);
     let refined = (!chords.is_empty()).then(|| {
         let refinement = crate::mesh::split::split_edges(mesh, &chords);
@@ -179,15 +195,7 @@ pub(crate) fn circle_domain_map(
         Some((r, p)) => (&r.mesh, &p[..]),
         None => (mesh, population),
     };
-    let mut result = chordless_map(
-        surface,
-        surface_population,
-        loops,
-        landmarks,
-        config,
-        method,
-        progress,
-    )?;
+    let mut result = chordless_map(surface, surface_population, request, progress)?;
     let Some((refinement, refined_population)) = refined else {
         return Ok(result);
     };
@@ -215,12 +223,15 @@ pub(crate) fn circle_domain_map(
 fn chordless_map(
     mesh: &TriMesh,
     population: &[f64],
-    loops: &[Vec<u32>],
-    landmarks: &[(usize, [f64; 2])],
-    config: &Config,
-    method: &'static str,
+    request: &Request,
     progress: ProgressFn,
 ) -> Result<MapResult> {
+    let Request {
+        loops,
+        landmarks,
+        config,
+        method,
+    } = *request;
     let t0 = Instant::now();
     let layout = Layout::new(mesh, loops);
     let holes: Vec<Vec<u32>> = layout.holes.iter().map(|h| h.boundary.clone()).collect();
@@ -251,7 +262,7 @@ fn chordless_map(
     // made; once there, the energy is minimised with them pinned.
     if !landmarks.is_empty() {
         let fixed_holes = !config.geometry_update;
-        let minimize = |stage, x: &mut [[f64; 3]]| {
+        let minimize = |stage, x: &mut [[f64; 3]], progress: ProgressFn| {
             let problem = energy_problem(
                 mesh,
                 population,
@@ -261,7 +272,7 @@ fn chordless_map(
                 fixed_holes,
                 stage,
             );
-            newton::minimize(&problem, x)
+            newton::minimize(&problem, x, progress)
         };
         let held = layout.on_loops(mesh.n_vertices());
         let targets: Vec<[f64; 2]> = landmarks.iter().map(|l| l.1).collect();
@@ -271,15 +282,28 @@ fn chordless_map(
         };
         let x = &mut map.positions;
         let n = x.len();
+        // Every leg's Newton iterations are numbered after the run's so far.
+        let base = map.history.len();
+        let mut done = base;
         let legs = landmarks::lead(&mesh.faces, x, &held, n, &pinned, &targets, |x| {
-            minimize(leg, x)
+            let out = minimize(leg, x, &mut |p: Progress| {
+                progress(Progress {
+                    iteration: done + p.iteration,
+                    max_iter: base + config.max_iter,
+                    error: p.error,
+                })
+            })?;
+            done += out.history.len();
+            Ok(out)
         })?;
-        let last = minimize(Stage::configured(config), x)?;
+        map.history.extend(&legs.history);
+        let last = minimize(
+            Stage::configured(config),
+            x,
+            &mut equalize::after(progress, map.history.len(), config.max_iter),
+        )?;
         map.iterations += legs.iterations + last.iterations;
-        for stage in [&legs.history, &last.history] {
-            equalize::report(progress, &map.history, stage, config.max_iter);
-            map.history.extend(stage);
-        }
+        map.history.extend(&last.history);
         map.converged = last.converged;
         let missed: Vec<String> = landmarks
             .iter()

@@ -6,6 +6,11 @@
 //! (the density misfit is a barrier against collapse), so every map met is bijective; when a
 //! few faces about to collapse cut it short, the step with the vertices around them held is
 //! tried too, so that they do not hold back the whole map.
+//!
+//! The minimisation is a flow of the density-equalizing iteration every method runs
+//! ([`crate::methods::iteration`]): one Newton step is one advance, the energy is the merit,
+//! and the iteration stops on the energy's decrease (`docs/deviations.md`, the shared
+//! iteration).
 
 use super::energy::{self, Face, Misfit};
 use super::parameters::Parameters;
@@ -15,6 +20,8 @@ use crate::geometry::face_areas;
 use crate::linalg::{ElementPattern, SpdSolver, packed_index};
 use crate::mesh::topology::{ring_distances, vertex_neighbours};
 use crate::methods::disk::planar_diffusion::collapse_time;
+use crate::methods::iteration::{Flow, Keep, Measured, Moved, Rules, Stationary, Step, iterate};
+use crate::methods::{ProgressFn, StopReason};
 use crate::metrics::normalized_variance;
 use rayon::prelude::*;
 
@@ -28,8 +35,8 @@ const MAX_DAMPING: f64 = 1e4;
 /// holes 10.0 s → 7.7 s, the same energy within 1%).
 const REUSE: usize = 2;
 
-/// The energy falling by less than the tolerance (relative) over this many iterations is a
-/// minimum, whatever the Newton decrement says.
+/// The energy falling by less than the tolerance (relative) over this many steps is a
+/// minimum, whatever the Newton decrement says ([`Stationary::Decrease`]).
 const STALL_ITERATIONS: usize = 5;
 
 /// An energy this small (a mean of squared relative quantities: densities equal to about
@@ -58,7 +65,8 @@ pub(crate) struct Problem<'a> {
     pub misfit: Misfit,
     /// Newton iterations at most.
     pub max_iterations: usize,
-    /// Stop when the Newton decrement is below this fraction of the energy.
+    /// Stop when the Newton decrement, or the decrease over the last [`STALL_ITERATIONS`]
+    /// steps, is below this fraction of the energy.
     pub tolerance: f64,
 }
 
@@ -73,8 +81,9 @@ pub(crate) struct Outcome {
     pub history: Vec<f64>,
     /// True when the Newton decrement of a fresh, undamped Hessian fell below the tolerance
     /// (a damped one understates it: brain with six holes stopped at Var(ρ̃) 0.13 instead of
-    /// 0.008), or no step could lower the energy at all (a minimum); false when the iteration
-    /// limit ran out first.
+    /// 0.008), the energy fell by less than the tolerance over [`STALL_ITERATIONS`] steps, or
+    /// no step could lower the energy at all (a minimum); false when the iteration limit ran
+    /// out first.
     pub converged: bool,
 }
 
@@ -218,126 +227,180 @@ fn line_search(
     None
 }
 
-/// Minimises the energy over the circle domain maps starting from the bijective map `x`
-/// (vertices outside the problem's faces are left alone).
-// The corners' unknowns index several parallel arrays at once.
-#[allow(clippy::needless_range_loop)]
-pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
-    let params = Parameters::new(x.len(), p.faces, p.outer, p.holes, p.pinned, p.fixed_holes);
-    let total_population: f64 = p.population.iter().sum();
-    let faces: Vec<Face> = p
-        .faces
-        .iter()
-        .map(|f| Face::new(f.map(|v| p.surface[v as usize])))
-        .collect();
-    let mut u = params.read(x, p.holes);
-    // The unknowns of every face (its element of the Hessian) and, for each corner's
-    // unknowns, their places in that list.
-    let mut elements: Vec<Vec<u32>> = Vec::with_capacity(p.faces.len());
-    let mut places: Vec<[[u8; 4]; 3]> = Vec::with_capacity(p.faces.len());
-    for f in p.faces {
-        let mut list: Vec<u32> = Vec::with_capacity(8);
-        let mut place = [[0u8; 4]; 3];
-        for (c, &v) in f.iter().enumerate() {
-            let j = params.jacobian(v as usize, &u);
-            for s in 0..j.count {
-                let k = j.unknowns[s] as u32;
-                place[c][s] = match list.iter().position(|&e| e == k) {
-                    Some(at) => at as u8,
-                    None => {
-                        list.push(k);
-                        (list.len() - 1) as u8
-                    }
-                };
-            }
-        }
-        elements.push(list);
-        places.push(place);
-    }
-    let pattern = ElementPattern::new(params.n, elements.iter().map(|e| e.as_slice()))?;
-    let mut solver = SpdSolver::for_pattern(&pattern)?;
-    let targets = |x: &[[f64; 3]]| face_targets(p, &faces, total_population, x);
-    let energy = |x: &[[f64; 3]], target: &[f64]| mean_energy(p, &faces, target, x);
-    let m = p.faces.len() as f64;
-    let image = |x: &[[f64; 3]], f: &[u32; 3]| f.map(|v| [x[v as usize][0], x[v as usize][1]]);
+/// A circle domain map as Newton moves it: the positions and the unknowns they are written
+/// from ([`Parameters`]; reading the unknowns back from the positions would round them).
+#[derive(Clone)]
+struct CircleMap {
+    x: Vec<[f64; 3]>,
+    u: Vec<f64>,
+}
 
-    let incidence = VertexFaces::new(x.len(), p.faces);
-    // Built the first time a step is blocked (many minimisations never need it).
-    let neighbours = std::cell::OnceCell::new();
-    let mut target = targets(x);
-    let Some(mut current) = energy(x, &target) else {
-        return Err(crate::Error::Numerical(
-            "the map to improve folds a triangle".into(),
-        ));
-    };
-    let mut outcome = Outcome {
-        iterations: 0,
-        history: Vec::new(),
-        converged: false,
-    };
-    let mut trial = x.to_vec();
-    let mut element_values = vec![0.0; pattern.n_element_values()];
-    let mut values = vec![0.0; pattern.nnz()];
-    let mut grad = vec![0.0; params.n];
-    let mut damping = MIN_DAMPING;
-    // Iterations since the last factorization: after a full step the factorization serves
-    // again (a chord step with the new gradient), up to REUSE times.
-    let mut stale = usize::MAX;
-    // The energy after each of the last STALL_ITERATIONS steps, and before them.
-    let mut recent = std::collections::VecDeque::with_capacity(STALL_ITERATIONS + 2);
-    recent.push_back(current);
-    for _ in 0..p.max_iterations {
-        outcome.iterations += 1;
-        let refactor = stale >= REUSE;
+/// What [`Newton::measure`] hands to [`Newton::advance`].
+struct Energy {
+    /// Every face's relative area target in the map ([`face_targets`]).
+    target: Vec<f64>,
+    /// sd/mean of the vertex density ([`density_spread`]): what the history records.
+    spread: f64,
+}
+
+/// Projected Newton on the DEQ energy (model (4.2) in its per-face form, in place of
+/// Algorithm 5.2's Beltrami descent) as a flow of the density-equalizing iteration
+/// ([`iterate`]): the merit is the energy, the stopping quantity the decrease Newton's method
+/// can still make, and one advance is one Newton step with its line search. The flow keeps
+/// the factorization, its age (chord steps) and the Levenberg–Marquardt damping from one step
+/// to the next.
+struct Newton<'p, 'a> {
+    p: &'p Problem<'a>,
+    params: Parameters,
+    /// The faces on the surface, and their total population.
+    faces: Vec<Face>,
+    total_population: f64,
+    /// For each face, each corner's unknowns' places in the face's element of the Hessian.
+    places: Vec<[[u8; 4]; 3]>,
+    pattern: ElementPattern,
+    solver: SpdSolver,
+    incidence: VertexFaces,
+    /// Built the first time a step is blocked (many minimisations never need it).
+    neighbours: std::cell::OnceCell<Vec<Vec<u32>>>,
+    element_values: Vec<f64>,
+    values: Vec<f64>,
+    grad: Vec<f64>,
+    damping: f64,
+    /// Steps since the last factorization: after a full step the factorization serves again
+    /// (a chord step with the new gradient), up to [`REUSE`] times.
+    stale: usize,
+    /// The decrease an advance that left the map as it was found possible there (the Newton
+    /// decrement of a fresh, undamped Hessian; 0 when no step lowers the energy): the next
+    /// measurement's stopping quantity. Unknown (infinite) after a move.
+    decrease: Option<f64>,
+    /// The energy the line search accepted, for a moved map whose retargeted energy cannot be
+    /// evaluated.
+    accepted: Option<f64>,
+}
+
+impl<'p, 'a> Newton<'p, 'a> {
+    /// The flow of the problem `p` from the map `x`, and that map with its unknowns.
+    fn new(p: &'p Problem<'a>, x: &[[f64; 3]]) -> Result<(Self, CircleMap)> {
+        let params = Parameters::new(x.len(), p.faces, p.outer, p.holes, p.pinned, p.fixed_holes);
+        let faces: Vec<Face> = p
+            .faces
+            .iter()
+            .map(|f| Face::new(f.map(|v| p.surface[v as usize])))
+            .collect();
+        let u = params.read(x, p.holes);
+        // The unknowns of every face (its element of the Hessian) and, for each corner's
+        // unknowns, their places in that list.
+        let mut elements: Vec<Vec<u32>> = Vec::with_capacity(p.faces.len());
+        let mut places: Vec<[[u8; 4]; 3]> = Vec::with_capacity(p.faces.len());
+        for f in p.faces {
+            let mut list: Vec<u32> = Vec::with_capacity(8);
+            let mut place = [[0u8; 4]; 3];
+            for (c, &v) in f.iter().enumerate() {
+                let j = params.jacobian(v as usize, &u);
+                for (s, &k) in j.unknowns[..j.count].iter().enumerate() {
+                    let k = k as u32;
+                    place[c][s] = match list.iter().position(|&e| e == k) {
+                        Some(at) => at as u8,
+                        None => {
+                            list.push(k);
+                            (list.len() - 1) as u8
+                        }
+                    };
+                }
+            }
+            elements.push(list);
+            places.push(place);
+        }
+        let pattern = ElementPattern::new(params.n, elements.iter().map(|e| e.as_slice()))?;
+        let solver = SpdSolver::for_pattern(&pattern)?;
+        let flow = Self {
+            p,
+            total_population: p.population.iter().sum(),
+            faces,
+            places,
+            solver,
+            incidence: VertexFaces::new(x.len(), p.faces),
+            neighbours: std::cell::OnceCell::new(),
+            element_values: vec![0.0; pattern.n_element_values()],
+            values: vec![0.0; pattern.nnz()],
+            grad: vec![0.0; params.n],
+            pattern,
+            params,
+            damping: MIN_DAMPING,
+            stale: usize::MAX,
+            decrease: None,
+            accepted: None,
+        };
+        Ok((flow, CircleMap { x: x.to_vec(), u }))
+    }
+
+    /// Assembles the Hessian of the energy in the unknowns (`corner`: every face's
+    /// derivatives in its corners' coordinates) into `self.element_values`.
+    // The corners' unknowns index several parallel arrays at once.
+    #[allow(clippy::needless_range_loop)]
+    fn assemble_elements(&mut self, u: &[f64], corner: &[Option<CornerDerivatives>]) {
+        let m = self.p.faces.len() as f64;
+        let slices = self.pattern.element_slices(&mut self.element_values);
+        let params = &self.params;
+        slices
+            .into_par_iter()
+            .zip(self.p.faces.par_iter().zip(corner.par_iter()))
+            .zip(self.places.par_iter())
+            .for_each(|((slot, (f, cd)), place)| {
+                slot.fill(0.0);
+                let Some((_, hc)) = cd else { return };
+                let jac: [_; 3] = std::array::from_fn(|k| params.jacobian(f[k] as usize, u));
+                for (ca, ja) in jac.iter().enumerate() {
+                    for s in 0..ja.count {
+                        let la = place[ca][s] as usize;
+                        let da = ja.derivatives[s];
+                        for (cb, jb) in jac.iter().enumerate() {
+                            for t in 0..jb.count {
+                                let lb = place[cb][t] as usize;
+                                if lb > la {
+                                    continue;
+                                }
+                                let db = jb.derivatives[t];
+                                let h = da[0]
+                                    * (hc[2 * ca][2 * cb] * db[0] + hc[2 * ca][2 * cb + 1] * db[1])
+                                    + da[1]
+                                        * (hc[2 * ca + 1][2 * cb] * db[0]
+                                            + hc[2 * ca + 1][2 * cb + 1] * db[1]);
+                                slot[packed_index(la, lb)] += h / m;
+                            }
+                        }
+                    }
+                }
+            });
+    }
+
+    /// The Newton step at `map`, its slope along the gradient, and whether the Hessian was
+    /// factored afresh for it (damped, when the last factorization is stale; a chord step
+    /// otherwise); `None` when the Hessian cannot be factored or solved with.
+    fn newton_step(&mut self, map: &CircleMap, target: &[f64]) -> Option<(Vec<f64>, f64, bool)> {
+        let p = self.p;
+        let (x, u) = (&map.x, &map.u);
+        let m = p.faces.len() as f64;
+        let refactor = self.stale >= REUSE;
+        let image = |f: &[u32; 3]| f.map(|v| [x[v as usize][0], x[v as usize][1]]);
         let corner: Vec<Option<CornerDerivatives>> = p
             .faces
             .par_iter()
-            .zip(faces.par_iter().zip(target.par_iter()))
+            .zip(self.faces.par_iter().zip(target.par_iter()))
             .map(|(f, (face, &k))| {
-                energy::derivatives(face, image(x, f), k, p.alpha, p.misfit).map(|(_, g, h)| (g, h))
+                energy::derivatives(face, image(f), k, p.alpha, p.misfit).map(|(_, g, h)| (g, h))
             })
             .collect();
         // The chain rule to the unknowns: element matrices in parallel, the gradient after.
         if refactor {
-            let slices = pattern.element_slices(&mut element_values);
-            let (params, u) = (&params, &u);
-            slices
-                .into_par_iter()
-                .zip(p.faces.par_iter().zip(corner.par_iter()))
-                .zip(places.par_iter())
-                .for_each(|((slot, (f, cd)), place)| {
-                    slot.fill(0.0);
-                    let Some((_, hc)) = cd else { return };
-                    let jac: [_; 3] = std::array::from_fn(|k| params.jacobian(f[k] as usize, u));
-                    for (ca, ja) in jac.iter().enumerate() {
-                        for s in 0..ja.count {
-                            let la = place[ca][s] as usize;
-                            let da = ja.derivatives[s];
-                            for (cb, jb) in jac.iter().enumerate() {
-                                for t in 0..jb.count {
-                                    let lb = place[cb][t] as usize;
-                                    if lb > la {
-                                        continue;
-                                    }
-                                    let db = jb.derivatives[t];
-                                    let h = da[0]
-                                        * (hc[2 * ca][2 * cb] * db[0]
-                                            + hc[2 * ca][2 * cb + 1] * db[1])
-                                        + da[1]
-                                            * (hc[2 * ca + 1][2 * cb] * db[0]
-                                                + hc[2 * ca + 1][2 * cb + 1] * db[1]);
-                                    slot[packed_index(la, lb)] += h / m;
-                                }
-                            }
-                        }
-                    }
-                });
+            self.assemble_elements(u, &corner);
         }
+        let grad = &mut self.grad;
         grad.iter_mut().for_each(|g| *g = 0.0);
         for (f, cd) in p.faces.iter().zip(&corner) {
             let Some((gc, _)) = cd else { continue };
             for (c, &v) in f.iter().enumerate() {
-                let j = params.jacobian(v as usize, &u);
+                let j = self.params.jacobian(v as usize, u);
                 for s in 0..j.count {
                     let d = j.derivatives[s];
                     grad[j.unknowns[s]] += (d[0] * gc[2 * c] + d[1] * gc[2 * c + 1]) / m;
@@ -345,60 +408,109 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
             }
         }
         if refactor {
-            pattern.assemble(&element_values, &mut values);
+            let (pattern, values, n) = (&self.pattern, &mut self.values, self.params.n);
+            pattern.assemble(&self.element_values, values);
             // Levenberg–Marquardt damping, a multiple of the mean diagonal; it also keeps the
             // matrix definite (the energy does not change when the whole map turns).
-            let diag_mean = (0..params.n)
-                .map(|c| values[pattern.col_ptr()[c]])
-                .sum::<f64>()
-                / params.n.max(1) as f64;
-            for c in 0..params.n {
-                values[pattern.col_ptr()[c]] += (damping * diag_mean).max(f64::MIN_POSITIVE);
+            let diag_mean =
+                (0..n).map(|c| values[pattern.col_ptr()[c]]).sum::<f64>() / n.max(1) as f64;
+            for c in 0..n {
+                values[pattern.col_ptr()[c]] += (self.damping * diag_mean).max(f64::MIN_POSITIVE);
             }
-            if solver.factor(&values).is_err() {
-                outcome.converged = true;
-                break;
+            if self.solver.factor(&self.values).is_err() {
+                return None;
             }
-            stale = 0;
+            self.stale = 0;
         } else {
-            stale += 1;
+            self.stale += 1;
         }
-        let mut step: Vec<f64> = grad.iter().map(|g| -g).collect();
-        if solver.solve_in_place(&mut step).is_err() {
-            outcome.converged = true;
-            break;
+        let mut step: Vec<f64> = self.grad.iter().map(|g| -g).collect();
+        if self.solver.solve_in_place(&mut step).is_err() {
+            return None;
         }
-        let slope: f64 = step.iter().zip(&grad).map(|(s, g)| s * g).sum();
+        let slope: f64 = step.iter().zip(&self.grad).map(|(s, g)| s * g).sum();
+        Some((step, slope, refactor))
+    }
+}
+
+impl Flow for Newton<'_, '_> {
+    type Map = CircleMap;
+    type Data = Energy;
+
+    /// The energy of `map` after retargeting (the faces' area moves with the holes), its
+    /// vertex density's spread, and the decrease the last advance found possible there.
+    fn measure(&mut self, map: &CircleMap) -> Result<Measured<Energy>> {
+        let target = face_targets(self.p, &self.faces, self.total_population, &map.x);
+        let Some(energy) =
+            mean_energy(self.p, &self.faces, &target, &map.x).or(self.accepted.take())
+        else {
+            return Err(crate::Error::Numerical(
+                "the map to improve folds a triangle".into(),
+            ));
+        };
+        self.accepted = None;
+        Ok(Measured {
+            error: self.decrease.take().unwrap_or(f64::INFINITY),
+            merit: energy,
+            data: Energy {
+                target,
+                spread: density_spread(self.p, &self.incidence, &map.x),
+            },
+        })
+    }
+
+    fn shown(&self, m: &Measured<Energy>) -> f64 {
+        m.data.spread
+    }
+
+    /// One Newton step from `map` with its line search (the asked length is always 1). A
+    /// decrement below the tolerance on a fresh, undamped Hessian, or no step that lowers the
+    /// energy, leaves the map as it is with the decrease found; a decrement below it on a
+    /// chord step or a damped Hessian (only an estimate, damping shrinks it) leaves the map as
+    /// it is and renews the Hessian undamped for the next step.
+    fn advance(
+        &mut self,
+        map: &CircleMap,
+        m: &Measured<Energy>,
+        _h: f64,
+    ) -> Result<Moved<CircleMap>> {
+        let p = self.p;
+        let current = m.merit;
+        let unmoved = |decrease: Option<f64>, flow: &mut Self| {
+            flow.decrease = decrease;
+            Ok(Moved {
+                map: map.clone(),
+                fraction: 0.0,
+            })
+        };
+        let Some((step, slope, refactor)) = self.newton_step(map, &m.data.target) else {
+            return unmoved(Some(0.0), self);
+        };
         // The Newton decrement: the decrease a full step would make on the quadratic model.
         let predicted = -0.5 * slope / current.abs().max(f64::MIN_POSITIVE);
-        if !(predicted > p.tolerance) || current <= NEGLIGIBLE_ENERGY {
-            if (refactor && damping <= MIN_DAMPING) || current <= NEGLIGIBLE_ENERGY {
-                outcome.converged = true;
-                break;
+        if !(predicted >= p.tolerance) || current <= NEGLIGIBLE_ENERGY {
+            if current <= NEGLIGIBLE_ENERGY {
+                return unmoved(Some(0.0), self);
             }
-            // A chord step's decrement is only an estimate, and damping shrinks it: decide
-            // with a fresh, undamped Hessian.
-            stale = usize::MAX;
-            damping = MIN_DAMPING;
-            outcome.history.push(density_spread(p, &incidence, x));
-            continue;
+            if refactor && self.damping <= MIN_DAMPING {
+                return unmoved(Some(if predicted.is_nan() { 0.0 } else { predicted }), self);
+            }
+            self.stale = usize::MAX;
+            self.damping = MIN_DAMPING;
+            return unmoved(None, self);
         }
+        let (x, u) = (&map.x, &map.u);
+        let params = &self.params;
         // Start the line search short of the first collapse along the step (to first order).
-        let collapse = collapse_times(p, &params, &u, x, &step);
+        let collapse = collapse_times(p, params, u, x, &step);
         let t_collapse = collapse.iter().copied().fold(f64::INFINITY, f64::min);
+        let mut trial = x.clone();
+        let (faces, target) = (&self.faces, &m.data.target);
         let mut evaluate = |un: &[f64]| {
             params.write(un, &mut trial);
-            energy(&trial, &target)
+            mean_energy(p, faces, target, &trial)
         };
-        let mut accepted = line_search(
-            &params,
-            &u,
-            &step,
-            slope,
-            t_collapse,
-            current,
-            &mut evaluate,
-        );
+        let mut accepted = line_search(params, u, &step, slope, t_collapse, current, &mut evaluate);
         // A step cut short by a few faces about to collapse: the step with the vertices
         // around them held ([`HELD_RINGS`]) goes further everywhere else. It is taken when it
         // lowers the energy more, and counts as a full step (the quadratic model held where
@@ -410,23 +522,25 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
                 .zip(&collapse)
                 .filter(|(_, t)| **t < 1.0 / COLLAPSE_MARGIN)
                 .flat_map(|(f, _)| *f);
-            let neighbours = neighbours.get_or_init(|| vertex_neighbours(x.len(), p.faces));
+            let neighbours = self
+                .neighbours
+                .get_or_init(|| vertex_neighbours(x.len(), p.faces));
             let held = ring_distances(neighbours, blocking, HELD_RINGS);
             let mut partial = step.clone();
             for v in (0..held.len()).filter(|&v| held[v] != usize::MAX) {
-                let j = params.jacobian(v, &u);
+                let j = params.jacobian(v, u);
                 for &k in &j.unknowns[..j.count] {
                     partial[k] = 0.0;
                 }
             }
-            let partial_slope: f64 = partial.iter().zip(&grad).map(|(s, g)| s * g).sum();
+            let partial_slope: f64 = partial.iter().zip(&self.grad).map(|(s, g)| s * g).sum();
             if partial_slope < 0.0 {
-                let t_partial = collapse_times(p, &params, &u, x, &partial)
+                let t_partial = collapse_times(p, params, u, x, &partial)
                     .into_iter()
                     .fold(f64::INFINITY, f64::min);
                 let other = line_search(
-                    &params,
-                    &u,
+                    params,
+                    u,
                     &partial,
                     partial_slope,
                     t_partial,
@@ -447,40 +561,55 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
         }) = accepted
         else {
             // No step lowers the energy: a minimum (to rounding).
-            outcome.converged = true;
-            break;
+            return unmoved(Some(0.0), self);
         };
         params.write(&un, &mut trial);
         // A shortened step means the quadratic model was too optimistic: damp more, and
         // factorize again.
-        damping = if t == 1.0 {
-            (damping * 0.25).max(MIN_DAMPING)
+        self.damping = if t == 1.0 {
+            (self.damping * 0.25).max(MIN_DAMPING)
         } else {
-            stale = usize::MAX;
-            (damping * 4.0).min(MAX_DAMPING)
+            self.stale = usize::MAX;
+            (self.damping * 4.0).min(MAX_DAMPING)
         };
-        u = un;
-        x.copy_from_slice(&trial);
-        // The faces' area moved with the holes: retarget and measure again.
-        target = targets(x);
-        current = energy(x, &target).unwrap_or(e);
-        // Steps cut short by collapsing triangles can leave the decrement large while the
-        // energy no longer falls: that is a minimum too.
-        outcome.history.push(density_spread(p, &incidence, x));
-        recent.push_back(current);
-        if recent.len() > STALL_ITERATIONS + 1 {
-            recent.pop_front();
-        }
-        if recent.len() > STALL_ITERATIONS && recent[0] - current < p.tolerance * current {
-            outcome.converged = true;
-            break;
-        }
+        self.accepted = Some(e);
+        Ok(Moved {
+            map: CircleMap { x: trial, u: un },
+            fraction: 1.0,
+        })
     }
-    // An iteration that ended the minimisation before moving records the map as it is.
-    if outcome.history.len() < outcome.iterations {
-        outcome.history.push(density_spread(p, &incidence, x));
+}
+
+/// Minimises the energy over the circle domain maps starting from the bijective map `x`
+/// (vertices outside the problem's faces are left alone) on the density-equalizing iteration
+/// ([`iterate`]) with the rules of [`rules`], reporting sd/mean of the vertex density after
+/// every Newton step to `progress`.
+pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]], progress: ProgressFn) -> Result<Outcome> {
+    let (mut flow, map) = Newton::new(p, x)?;
+    let out = iterate(&mut flow, map, &rules(p), progress)?;
+    x.copy_from_slice(&out.map.x);
+    Ok(Outcome {
+        iterations: out.iterations,
+        history: out.history,
+        converged: out.stop_reason != StopReason::MaxIter,
+    })
+}
+
+/// The iteration's rules for Newton's method on `p`: the flow's own step (Newton's, with its
+/// line search), stop when the decrease still possible (the Newton decrement) or the decrease
+/// made over the last [`STALL_ITERATIONS`] steps falls below the tolerance, return the last
+/// map (every step lowered the energy).
+fn rules(p: &Problem) -> Rules {
+    Rules {
+        epsilon: p.tolerance,
+        max_iter: p.max_iterations,
+        step: Step::Own,
+        stationary: Some(Stationary::Decrease {
+            window: STALL_ITERATIONS,
+            min_gain: p.tolerance,
+        }),
+        keep: Keep::Last,
     }
-    Ok(outcome)
 }
 
 #[cfg(test)]

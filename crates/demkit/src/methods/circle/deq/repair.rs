@@ -15,6 +15,7 @@ use crate::Result;
 use crate::TriMesh;
 use crate::geometry::face_areas;
 use crate::mesh::topology::{ring_distances, vertex_neighbours};
+use crate::methods::{Progress, ProgressFn};
 
 /// A face whose relative density `ρ̃ = (P/ΣP) / (A/ΣA)` lies outside `[1/FAR_OFF, FAR_OFF]` is
 /// far off.
@@ -29,7 +30,8 @@ const ROUNDS: usize = 3;
 const ITERATIONS: usize = 20;
 
 /// Minimises the DEQ energy (weight `alpha`, Newton tolerance `tolerance`) of the circle
-/// domain map `x` of `mesh` around its far-off faces. Returns the Newton iterations done.
+/// domain map `x` of `mesh` around its far-off faces, reporting every Newton iteration to
+/// `progress`. Returns the Newton iterations done and their history.
 pub(crate) fn repair(
     mesh: &TriMesh,
     population: &[f64],
@@ -37,6 +39,7 @@ pub(crate) fn repair(
     x: &mut [[f64; 3]],
     alpha: f64,
     tolerance: f64,
+    progress: ProgressFn,
 ) -> Result<Outcome> {
     let n = mesh.n_vertices();
     let neighbours = vertex_neighbours(n, &mesh.faces);
@@ -93,7 +96,13 @@ pub(crate) fn repair(
             max_iterations: ITERATIONS,
             tolerance,
         };
-        let outcome = newton::minimize(&problem, x)?;
+        let done_before = done.history.len();
+        let outcome = newton::minimize(&problem, x, &mut |p: Progress| {
+            progress(Progress {
+                iteration: done_before + p.iteration,
+                ..p
+            })
+        })?;
         done.iterations += outcome.iterations;
         done.history.extend(outcome.history);
     }
@@ -135,7 +144,7 @@ mod tests {
         };
         assert!(far_off(&x) > 0);
         let before = x.clone();
-        repair(&mesh, &population, &layout, &mut x, 0.0, 1e-6).unwrap();
+        repair(&mesh, &population, &layout, &mut x, 0.0, 1e-6, &mut |_| {}).unwrap();
         assert_eq!(count_nonpositive(&x, &mesh.faces), 0);
         assert_eq!(far_off(&x), 0);
         // Vertices beyond the neighbourhood did not move.
