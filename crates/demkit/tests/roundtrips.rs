@@ -221,7 +221,7 @@ fn texture_for(mesh: &TriMesh) -> impl Strategy<Value = TextureCoordinates> + us
 }
 
 proptest! {
-    #![proptest_config(cases(300))]
+    #![proptest_config(cases(1000))]
 
     /// The library's OBJ writer and reader: the same mesh, bit for bit.
     #[test]
@@ -317,7 +317,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(cases(40))]
+    #![proptest_config(cases(100))]
 
     /// Through files: `write_mesh` then `read_mesh` (the format chosen by the extension, in
     /// either case) give back the mesh bit for bit.
@@ -654,7 +654,7 @@ fn same(a: f64, b: f64) -> bool {
 }
 
 proptest! {
-    #![proptest_config(cases(1500))]
+    #![proptest_config(cases(6000))]
 
     /// A printed tree compiles, and its compiled value equals the tree's own value at every
     /// point, bit for bit.
