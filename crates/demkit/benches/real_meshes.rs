@@ -17,7 +17,7 @@ use demkit::init::circle_domain::circle_domain_map_with_report;
 use demkit::init::genus_one::flat_torus_map_with_report;
 use demkit::methods::{dem, dem_shape, ldeq, lsdem, sdem, tdem};
 use demkit::shape::Shape;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The radii of `genus1/NAME.torus.txt` (lines `R value` and `r value`).
 fn radii(root: &Path, name: &str) -> Torus {
@@ -260,7 +260,6 @@ fn deq_budgets(c: &mut Criterion) {
         };
         case(&mut g, rel, 15.0, setup, |(mesh, pop)| run_deq(mesh, pop));
     }
-    let root = PathBuf::from(root);
     let face_with_eye_holes = || {
         let face = load(&root, "open/human_face.obj");
         let eyes = [([0.028, 0.265, 0.0], 0.012), ([-0.028, 0.265, 0.0], 0.012)];

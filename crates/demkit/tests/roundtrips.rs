@@ -63,7 +63,7 @@ fn awkward_f64() -> BoxedStrategy<f64> {
             5e-324,
             -5e-324,
             f64::MIN_POSITIVE,
-            -2.2250738585072009e-308,
+            -f64::MIN_POSITIVE,
             f64::MAX,
             f64::MIN,
             f64::EPSILON,
