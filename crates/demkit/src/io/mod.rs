@@ -450,7 +450,7 @@ mod tests {
     }
 
     #[test]
-    fn writing_a_million_vertices_is_fast() {
+    fn a_million_vertices_round_trip() {
         let n = 1000u32;
         let mut positions = Vec::with_capacity((n * n) as usize);
         for i in 0..n {

@@ -313,7 +313,7 @@ mod tests {
 
     #[test]
     #[ignore = "needs real meshes (DEMKIT_DATA)"]
-    fn reads_hand_quickly() {
+    fn reads_hand() {
         let path = data_dir().join("open/hand.obj");
         let data = std::fs::read(&path).unwrap();
         let t = std::time::Instant::now();
