@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{Scratch, json, json_file, parse_obj, parse_ply};
+use common::{Scratch, assert_density_improved, json, json_file, parse_obj, parse_ply};
 use serde_json::Value;
 
 /// A square split into four triangles around its centre: a small valid disk with 4 faces.
@@ -318,9 +318,11 @@ fn count(v: &Value, path: &str) -> u64 {
     })
 }
 
-/// Checks every field of DESIGN.md's report for a converged run of `method` on `input`.
+/// Checks every field of DESIGN.md's report for a converged run of `method` on `input`, and
+/// that the map made the density more even.
 fn check_report(r: &Value, method: &str, input: &common::Mesh, boundaries: u64) {
     assert_eq!(at(r, "method").as_str(), Some(method), "{r:#}");
+    assert_density_improved(r, None);
     assert_eq!(count(r, "input.vertices"), input.positions.len() as u64);
     assert_eq!(count(r, "input.faces"), input.faces.len() as u64);
     assert_eq!(count(r, "input.boundaries"), boundaries);
@@ -580,6 +582,7 @@ fn max_iter_reached_exits_3_and_still_writes() {
     assert_eq!(at(&r, "stop_reason").as_str(), Some("max_iter"), "{r:#}");
     assert_eq!(count(&r, "iterations"), 1);
     assert_eq!(at(&r, "history").as_array().map(Vec::len), Some(1));
+    assert_density_improved(&r, None);
     let (input, _) = parse_obj(&s.read("p.obj"));
     let (output, _) = parse_obj(&s.read("o.obj"));
     check_planar_output(&input, &output);
@@ -781,6 +784,8 @@ fn tiny_populations_are_equalized_like_any_other_scale() {
     }
     let a = json(&s.read("a.json"));
     let b = json(&s.read("b.json"));
+    assert_density_improved(&a, None);
+    assert_density_improved(&b, None);
     assert_eq!(a["iterations"], b["iterations"]);
     let (ea, eb) = (
         a["metrics"]["density_error_mean"].as_f64().unwrap(),
@@ -826,6 +831,9 @@ fn sdem_maps_an_icosphere_with_a_varying_population() {
     ]);
     let r = json_file(&s.path("r.json"));
     check_report(&r, "sdem", &input, 0);
+    // SDEM's initial map is the spherical conformal one: the error must fall below its error.
+    let initial = initial_sphere_error(&s, "s.obj", "area*(2+z)");
+    assert_density_improved(&r, Some(initial));
     assert!(number(&r, "metrics.density_var_final") < 1e-4, "{r:#}");
     assert!(
         number(&r, "metrics.density_var_initial") > 100.0 * number(&r, "metrics.density_var_final"),
@@ -841,10 +849,9 @@ fn auto_picks_sdem_for_a_sphere_and_lsdem_with_landmarks() {
     s.ok(&[
         "map", "s.obj", "--out", "o.obj", "--report", "r.json", "--quiet",
     ]);
-    assert_eq!(
-        at(&json_file(&s.path("r.json")), "method").as_str(),
-        Some("sdem")
-    );
+    let r = json_file(&s.path("r.json"));
+    assert_eq!(at(&r, "method").as_str(), Some("sdem"));
+    assert_density_improved(&r, Some(initial_sphere_error(&s, "s.obj", "area")));
     // Vertex 0 is the north pole of the UV sphere; send it a little south.
     let q = [0.2f64, 0.0, 1.0];
     let l = (q[0] * q[0] + q[2] * q[2]).sqrt();
@@ -862,10 +869,33 @@ fn auto_picks_sdem_for_a_sphere_and_lsdem_with_landmarks() {
     ]);
     let r = json_file(&s.path("r.json"));
     assert_eq!(at(&r, "method").as_str(), Some("lsdem"));
+    assert_density_improved(&r, None);
     assert_eq!(count(&r, "metrics.flipped_triangles"), 0);
     assert!(number(&r, "metrics.landmark_error") < 0.05, "{r:#}");
     let (input, _) = parse_obj(&s.read("s.obj"));
     check_sphere_output(&s, &input, "o.obj");
+}
+
+/// `density_error_mean` of the spherical conformal map of `mesh` with `population`: SDEM's
+/// initial map.
+fn initial_sphere_error(s: &Scratch, mesh: &str, population: &str) -> f64 {
+    s.ok(&[
+        "map",
+        mesh,
+        "--out",
+        "initial.obj",
+        "--method",
+        "spherical-conformal",
+        "--population",
+        population,
+        "--report",
+        "initial.json",
+        "--quiet",
+    ]);
+    number(
+        &json_file(&s.path("initial.json")),
+        "metrics.density_error_mean",
+    )
 }
 
 #[test]
@@ -988,6 +1018,7 @@ fn deq_maps_a_disk_with_holes_onto_a_circle_domain() {
     // the distortion is lower.
     map("2", "o2.obj", "r2.json");
     let r2 = json_file(&s.path("r2.json"));
+    assert_density_improved(&r2, None);
     assert!(var(&r2) < number(&r2, "metrics.face_density_var_initial"));
     assert!(var(&r2) > var(&r));
     assert!(number(&r2, "metrics.mean_abs_mu") < number(&r, "metrics.mean_abs_mu"));
@@ -1067,6 +1098,7 @@ fn deq_splits_the_chord_of_an_ear_and_keeps_every_hole_vertex_on_its_circle() {
     assert_eq!(output.planar_flipped(), 0);
     let r = json_file(&s.path("r.json"));
     assert_eq!(at(&r, "converged").as_bool(), Some(true));
+    assert_density_improved(&r, None);
     let notes = at(&r, "notes").to_string();
     assert!(notes.contains("split at its midpoint"), "{notes}");
 }
@@ -1142,6 +1174,9 @@ fn ldeq_sends_landmarks_to_their_targets() {
     let r = json_file(&s.path("r.json"));
     assert_eq!(at(&r, "method").as_str(), Some("ldeq"));
     assert_eq!(at(&r, "converged").as_bool(), Some(true), "{r:#}");
+    // No `assert_density_improved` here: with these four landmarks LDEQ ends less even than
+    // its initial map (face_density_var 0.060 -> 0.088, density_var 0.055 -> 0.078) and still
+    // reports convergence; that is an open question about LDEQ, not asserted either way.
     assert_eq!(count(&r, "metrics.flipped_triangles"), 0, "{r:#}");
     assert!(number(&r, "metrics.landmark_error") <= 1e-3, "{r:#}");
 }

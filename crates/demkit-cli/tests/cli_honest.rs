@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{Scratch, json_file};
+use common::{Scratch, assert_density_improved, json_file};
 use serde_json::Value;
 
 fn report(s: &Scratch) -> Value {
@@ -66,6 +66,7 @@ fn a_huge_population_is_computed_with_finite_metrics() {
         "--quiet",
     ]);
     let r = report(&s);
+    assert_density_improved(&r, None);
     let v = r["metrics"]["face_density_var_final"].as_f64().unwrap();
     assert!(v.is_finite() && v < 0.1, "{r:#}");
     assert!(

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{Scratch, json_file, parse_obj};
+use common::{Scratch, assert_density_improved, json_file, parse_obj};
 
 /// Writes `name` as the mesh `source` with every coordinate multiplied by `factor`.
 fn scaled_copy(s: &Scratch, source: &str, name: &str, factor: f64) {
@@ -42,6 +42,7 @@ fn maps_cleanly(s: &Scratch, mesh: &str, extra: &[&str]) -> serde_json::Value {
         m["face_density_var_final"].as_f64().unwrap(),
     );
     assert!(after < 0.5 * before, "{mesh}: {before} -> {after}");
+    assert_density_improved(&r, None);
     assert!(m["mean_abs_mu"].as_f64().is_some(), "{mesh}: {r:#}");
     r
 }

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{Scratch, json_file, parse_obj};
+use common::{Scratch, assert_density_improved, json_file, parse_obj};
 
 /// `demkit generate torus` with radii 3 and 1 into `t.obj`.
 fn torus(s: &Scratch) {
@@ -34,6 +34,7 @@ fn smooth_population_is_equalized_on_the_torus() {
     assert_eq!(r["method"], "tdem");
     assert_eq!(r["converged"], true);
     assert_eq!(r["input"]["genus"], 1);
+    assert_density_improved(&r, None);
     let m = &r["metrics"];
     assert_eq!(m["flipped_triangles"], 0);
     assert!(m["density_var_initial"].as_f64().unwrap() > 0.05);
@@ -94,6 +95,7 @@ fn a_surface_off_the_target_torus_is_parameterized_onto_it() {
     ]);
     let r = json_file(&s.path("r.json"));
     assert_eq!(r["converged"], true);
+    assert_density_improved(&r, None);
     let m = &r["metrics"];
     assert_eq!(m["flipped_triangles"], 0);
     assert!(m["density_error_mean"].as_f64().unwrap() < 0.05);

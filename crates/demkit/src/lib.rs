@@ -64,8 +64,6 @@ pub mod population;
 pub mod qc;
 pub mod shape;
 mod surface;
-#[cfg(test)]
-mod test_timing;
 
 pub use api::{Domain, Map, MapOptions, Method, Population, map, map_with_progress};
 pub use error::{Error, Result};

@@ -6,8 +6,9 @@
 //!
 //! Every run asserts what the DEQ issue asks of every surface with holes: converged, no flipped
 //! triangle, the outer loop on the unit circle, every hole a circle (the apexes of ears, which
-//! no circle domain can hold outside their circle, lie inside it), at most 15 s; then the
-//! bounds on Var(ρ̃) (`face_density_var_final`) and the mean |μ| of each case.
+//! no circle domain can hold outside their circle, lie inside it); then the bounds on Var(ρ̃)
+//! (`face_density_var_final`) and the mean |μ| of each case. The time is printed; the budget,
+//! 15 s, is a case of `benches/real_meshes.rs`.
 
 use demkit::TriMesh;
 use demkit::generate::{annulus, disk_with_holes, rectangle_with_holes, square_grid};
@@ -21,9 +22,6 @@ use common::{SERIAL, data};
 #[path = "common/cut.rs"]
 mod cut;
 use cut::{cut_holes, random_holes};
-
-/// The time budget of one map (checked with `DEMKIT_CHECK_TIME`).
-const SECONDS: f64 = 15.0;
 
 fn load(rel: &str) -> TriMesh {
     let mesh = demkit::io::read_mesh(&data(rel)).unwrap();
@@ -116,7 +114,6 @@ fn check(name: &str, input: &TriMesh, input_pop: &[f64], r: &MapResult, elapsed:
             check_round_hole(name, &r.positions, lp);
         }
     }
-    common::check_time(name, elapsed, SECONDS);
     m
 }
 

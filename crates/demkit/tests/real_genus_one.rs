@@ -2,8 +2,8 @@
 //! paper's genus-one meshes (from `DEMKIT_DATA`, default `../shared/data` beside the checkout).
 //! Ignored by default: run with `cargo test --release -- --ignored`.
 //!
-//! Each test asserts that the map exists, flips no triangle, covers the flat torus once and,
-//! (with `DEMKIT_CHECK_TIME`) takes under a second; it prints the mean |log area ratio| of the
+//! Each test asserts that the map exists, flips no triangle and covers the flat torus once (its
+//! budget, a second, is a case of `benches/real_meshes.rs`); it prints the mean |log area ratio| of the
 //! normalized face areas (the paper's (27), Table 3 "mean(d_area(h))") on the target torus
 //! and on its flat rectangle.
 
@@ -89,7 +89,6 @@ fn check(name: &str) {
         (covered - expect).abs() < 1e-9 * expect,
         "{covered} vs {expect}"
     );
-    common::check_time(name, elapsed, 1.0);
 }
 
 /// Per face: the signed planar area on the flat torus and the area of the triangle through

@@ -328,8 +328,50 @@ pub fn json_file(path: &Path) -> serde_json::Value {
     json(&text)
 }
 
-/// The wall-clock budgets: printed always, asserted with `DEMKIT_CHECK_TIME` (see the file).
-#[path = "../../../demkit/src/test_timing.rs"]
-mod timing;
-#[allow(unused_imports)]
-pub(crate) use timing::{check_time, checking_time};
+/// The variance a method's report judges its density equalization by: the face density's
+/// (`face_density_var_*`, the DEQ paper's Var(ρ̃)) for DEQ and LDEQ, the vertex density's
+/// (`density_var_*`) for the other methods.
+pub fn equalized_variance(method: &str) -> &'static str {
+    match method {
+        "deq" | "ldeq" => "face_density_var",
+        _ => "density_var",
+    }
+}
+
+/// Asserts that the map a `demkit map` report describes made the density more even: the
+/// method's variance ([`equalized_variance`]) is positive on the initial map (the population is
+/// not already equalized there, else there is nothing to check) and lower on the final map;
+/// and, when the caller knows `density_error_mean` on the initial map (`initial_error`), the
+/// final `density_error_mean` is below it.
+pub fn assert_density_improved(report: &serde_json::Value, initial_error: Option<f64>) {
+    let method = report["method"]
+        .as_str()
+        .unwrap_or_else(|| panic!("report without a method:\n{report:#}"));
+    let metric = |name: &str| -> f64 {
+        report["metrics"][name]
+            .as_f64()
+            .unwrap_or_else(|| panic!("report without metrics.{name}:\n{report:#}"))
+    };
+    let variance = equalized_variance(method);
+    let (initial, last) = (
+        metric(&format!("{variance}_initial")),
+        metric(&format!("{variance}_final")),
+    );
+    assert!(
+        initial > 0.0,
+        "{method}: {variance}_initial is {initial}: a trivial population, nothing equalized"
+    );
+    assert!(
+        last < initial,
+        "{method}: {variance} did not improve: {initial} on the initial map, {last} on the final \
+         one\n{report:#}"
+    );
+    if let Some(initial_error) = initial_error {
+        let error = metric("density_error_mean");
+        assert!(
+            error < initial_error,
+            "{method}: density_error_mean {error} is not below the initial map's \
+             {initial_error}\n{report:#}"
+        );
+    }
+}

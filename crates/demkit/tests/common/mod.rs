@@ -1,5 +1,6 @@
 //! Shared by the real-mesh tests: where the papers' meshes are, and the lock that keeps the
-//! timed runs of one test binary from overlapping.
+//! runs of one test binary from overlapping (so the times they print mean something; the
+//! budgets are in `benches/`).
 
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -13,11 +14,5 @@ pub fn data(rel: &str) -> PathBuf {
     root.join(rel)
 }
 
-/// The timing checks need the machine to themselves: one real mesh at a time.
+/// One real mesh at a time: the printed times need the machine to themselves.
 pub static SERIAL: Mutex<()> = Mutex::new(());
-
-/// The wall-clock budgets: printed always, asserted with `DEMKIT_CHECK_TIME` (see the file).
-#[path = "../../src/test_timing.rs"]
-mod timing;
-#[allow(unused_imports)]
-pub(crate) use timing::{check_time, checking_time};
