@@ -12,7 +12,7 @@ use super::parameters::Parameters;
 use crate::Result;
 use crate::fem::VertexFaces;
 use crate::geometry::face_areas;
-use crate::linalg::{ElementPattern, SpdSolver, packed_index};
+use crate::linalg::{ElementPattern, SparseCholesky, packed_index};
 use crate::mesh::topology::{ring_distances, vertex_neighbours};
 use crate::methods::disk::planar_diffusion::collapse_time;
 use crate::metrics::normalized_variance;
@@ -255,7 +255,7 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
         places.push(place);
     }
     let pattern = ElementPattern::new(params.n, elements.iter().map(|e| e.as_slice()))?;
-    let mut solver = SpdSolver::for_pattern(&pattern)?;
+    let mut solver = SparseCholesky::for_pattern(&pattern)?;
     let targets = |x: &[[f64; 3]]| face_targets(p, &faces, total_population, x);
     let energy = |x: &[[f64; 3]], target: &[f64]| mean_energy(p, &faces, target, x);
     let m = p.faces.len() as f64;
@@ -364,7 +364,7 @@ pub(crate) fn minimize(p: &Problem, x: &mut [[f64; 3]]) -> Result<Outcome> {
             stale += 1;
         }
         let mut step: Vec<f64> = grad.iter().map(|g| -g).collect();
-        if solver.solve_in_place(&mut step).is_err() {
+        if solver.solve_finite_in_place(&mut step).is_err() {
             outcome.converged = true;
             break;
         }
