@@ -3,8 +3,10 @@
 //! neighbour searches of remeshing and cartograms.
 //!
 //! [`GridCells`] is the geometry alone: an origin `lo`, a cell size per axis and a number of
-//! cells per axis. The cell of a point is `⌊(p − lo) / cell⌋` on every axis, clamped to the
-//! grid ([`GridCells::cell_of`]) or `None` outside it ([`GridCells::cell_within`]).
+//! cells per axis. The cell of a point is `⌊(p − lo) / cell⌋` on every axis (or
+//! `⌊(p − lo) · (1 / cell)⌋` for a grid given by its inverse cell size,
+//! [`GridCells::with_inverse`]: the two can differ by one rounding at a cell wall), clamped to
+//! the grid ([`GridCells::cell_of`]) or `None` outside it ([`GridCells::cell_within`]).
 //! [`Buckets`] lists items (faces, segments, points) in the cells of an inclusive range each,
 //! within every cell in increasing item order. The lists are stored compressed: one offset per
 //! cell when the grid has few cells for its entries, otherwise one per occupied cell, found by
@@ -15,7 +17,9 @@
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct GridCells<const D: usize> {
     lo: [f64; D],
-    cell: [f64; D],
+    /// The cell size per axis, or its inverse when `inverse`.
+    step: [f64; D],
+    inverse: bool,
     dims: [usize; D],
 }
 
@@ -24,8 +28,18 @@ impl<const D: usize> GridCells<D> {
     pub(crate) fn new(lo: [f64; D], cell: [f64; D], dims: [usize; D]) -> Self {
         Self {
             lo,
-            cell,
+            step: cell,
+            inverse: false,
             dims: dims.map(|n| n.max(1)),
+        }
+    }
+
+    /// The grid with origin `lo`, inverse cell sizes `inv_cell` (cells per unit length) and
+    /// `dims` cells per axis (at least one): positions in cell units are `(p − lo) · inv_cell`.
+    pub(crate) fn with_inverse(lo: [f64; D], inv_cell: [f64; D], dims: [usize; D]) -> Self {
+        Self {
+            inverse: true,
+            ..Self::new(lo, inv_cell, dims)
         }
     }
 
@@ -36,7 +50,11 @@ impl<const D: usize> GridCells<D> {
 
     /// The position of `p` in cell units, `(p − lo) / cell` per axis.
     pub(crate) fn coordinates(&self, p: [f64; D]) -> [f64; D] {
-        std::array::from_fn(|d| (p[d] - self.lo[d]) / self.cell[d])
+        if self.inverse {
+            std::array::from_fn(|d| (p[d] - self.lo[d]) * self.step[d])
+        } else {
+            std::array::from_fn(|d| (p[d] - self.lo[d]) / self.step[d])
+        }
     }
 
     /// The cell of `p`, clamped to the grid (a NaN coordinate counts as below it).
@@ -193,6 +211,15 @@ mod tests {
         assert_eq!(g.index([3, 2]), 11);
         assert_eq!(g.index([1, 1]), 5);
         assert_eq!(GridCells::new([0.0], [1.0], [0]).dims(), [1]);
+        // At a cell wall the two can differ: 0.3 / 0.1 rounds below 3, 0.3 · 10 to 3 exactly.
+        let (div, mul) = (
+            GridCells::new([0.0], [0.1], [20]),
+            GridCells::with_inverse([0.0], [10.0], [20]),
+        );
+        assert_eq!(div.coordinates([0.3]), [2.9999999999999996]);
+        assert_eq!(mul.coordinates([0.3]), [3.0]);
+        assert_eq!((div.cell_of([0.3]), mul.cell_of([0.3])), ([2], [3]));
+        assert_eq!(mul.cell_of([0.25]), [2]);
     }
 
     #[test]

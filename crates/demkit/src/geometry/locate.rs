@@ -261,8 +261,9 @@ impl FaceGrid {
         let cell = (mean_extent / count as f64)
             .max(whole / 262_144.0)
             .max(f64::MIN_POSITIVE);
-        let dims = [0, 1, 2].map(|d| ((hi[d] - lo[d]) / cell).floor() as usize + 1);
-        let cells = GridCells::new(lo, [cell; 3], dims);
+        let inv_cell = 1.0 / cell;
+        let dims = [0, 1, 2].map(|d| ((hi[d] - lo[d]) * inv_cell).floor() as usize + 1);
+        let cells = GridCells::with_inverse(lo, [inv_cell; 3], dims);
         FaceGrid(cells.bucket(boxes.len(), |i| {
             let (a, b) = boxes[i];
             finite(&boxes[i]).then(|| (cells.cell_of(a), cells.cell_of(b)))
