@@ -5,15 +5,15 @@
 //! numerically, reusing its buffers.
 
 use super::{cotangent_weights_into, lumped_mass};
-use crate::Result;
-use crate::linalg::{CachedCholesky, CholeskyFactor, StiffnessPattern};
-use std::cell::RefCell;
+use crate::linalg::{SparseCholesky, StiffnessPattern};
+use crate::{Error, Result};
+use std::cell::{RefCell, RefMut};
 
 /// `A + t L` on one connectivity, ready to be refactored for new positions.
 pub struct DiffusionOperator {
     faces: Vec<[u32; 3]>,
     pattern: StiffnessPattern,
-    cholesky: CachedCholesky,
+    cholesky: RefCell<SparseCholesky>,
     weights: RefCell<Vec<[f64; 3]>>,
     values: RefCell<Vec<f64>>,
 }
@@ -27,10 +27,11 @@ impl std::fmt::Debug for DiffusionOperator {
     }
 }
 
-/// A factorization of `A + t L` with the lumped mass `A` it was built from.
+/// A factorization of `A + t L` with the lumped mass `A` it was built from. It holds its
+/// operator's solver: the operator cannot be refactored while a factor is alive.
 pub struct DiffusionFactor<'a> {
-    /// The Cholesky factor of `A + t L` (plus any extra diagonal).
-    pub factor: CholeskyFactor<'a>,
+    /// The operator's solver, factored for `A + t L` (plus any extra diagonal).
+    solver: RefMut<'a, SparseCholesky>,
     /// The lumped mass `A` (4.24) of the positions.
     pub mass: Vec<f64>,
 }
@@ -39,16 +40,22 @@ impl DiffusionFactor<'_> {
     /// One diffusion step of the vertex function `rho` (4.34): solves `(A + t L) ρ = A ρ₀` and
     /// floors the result at a thousandth of the smallest value of `rho` (the step is positive
     /// in exact arithmetic; the floor keeps `∇ρ / ρ` finite after rounding).
-    pub fn diffuse(&self, rho: &[f64]) -> Vec<f64> {
+    pub fn diffuse(&mut self, rho: &[f64]) -> Result<Vec<f64>> {
         let mut out: Vec<f64> = self.mass.iter().zip(rho).map(|(a, p)| a * p).collect();
-        self.factor.solve_in_place(&mut out);
+        self.solver.solve_in_place(&mut out)?;
         let floor = rho.iter().cloned().fold(f64::INFINITY, f64::min) * 1e-3;
         for x in out.iter_mut() {
             if !(*x > floor) {
                 *x = floor;
             }
         }
-        out
+        Ok(out)
+    }
+
+    /// Solves `(A + t L) X = B` in place for `k` right-hand sides stored column-major in `b`
+    /// ([`SparseCholesky::solve_many_in_place`]).
+    pub fn solve_many_in_place(&mut self, b: &mut [f64], k: usize) -> Result<()> {
+        self.solver.solve_many_in_place(b, k)
     }
 }
 
@@ -56,7 +63,7 @@ impl DiffusionOperator {
     /// Analyses the sparsity pattern of `faces` on `n_vertices` vertices (no fixed vertices).
     pub fn new(n_vertices: usize, faces: &[[u32; 3]]) -> Result<Self> {
         let pattern = StiffnessPattern::new(n_vertices, faces, None);
-        let cholesky = CachedCholesky::new(&pattern)?;
+        let cholesky = RefCell::new(SparseCholesky::for_stiffness(&pattern)?);
         let values = RefCell::new(vec![0.0; pattern.nnz()]);
         Ok(Self {
             faces: faces.to_vec(),
@@ -115,8 +122,11 @@ impl DiffusionOperator {
         let mut values = self.values.borrow_mut();
         self.pattern
             .assemble(scaled_weights, &diagonal, &mut values);
-        let factor = self.cholesky.factor(&self.pattern, &values)?;
-        Ok(DiffusionFactor { factor, mass })
+        let mut solver = self.cholesky.try_borrow_mut().map_err(|_| {
+            Error::Numerical("diffusion operator refactored while its factor is in use".into())
+        })?;
+        solver.factor(&values)?;
+        Ok(DiffusionFactor { solver, mass })
     }
 }
 
@@ -131,15 +141,15 @@ mod tests {
         let (pos, faces, _) = grid(6, 0.2);
         let op = DiffusionOperator::new(pos.len(), &faces).unwrap();
         let areas = face_areas(&pos, &faces);
-        let f = op.factor(&pos, &areas, 0.05, &[]).unwrap();
+        let mut f = op.factor(&pos, &areas, 0.05, &[]).unwrap();
         // L 1 = 0: a constant does not diffuse.
-        for x in f.diffuse(&vec![2.5; pos.len()]) {
+        for x in f.diffuse(&vec![2.5; pos.len()]).unwrap() {
             assert!((x - 2.5).abs() < 1e-12);
         }
         // 1ᵀ (A + tL) ρ = 1ᵀ A ρ: the total ∫ρ is conserved, and a peak spreads out.
         let mut peak = vec![1.0; pos.len()];
         peak[20] = 10.0;
-        let out = f.diffuse(&peak);
+        let out = f.diffuse(&peak).unwrap();
         let total = |r: &[f64]| r.iter().zip(&f.mass).map(|(a, b)| a * b).sum::<f64>();
         assert!((total(&out) - total(&peak)).abs() < 1e-12);
         assert!(out[20] < 10.0 && out[20] > 1.0);
@@ -151,9 +161,11 @@ mod tests {
         let op = DiffusionOperator::new(pos.len(), &faces).unwrap();
         let areas = face_areas(&pos, &faces);
         // With t = 0 the system is diag(A + D): solving A x = (A + D) 1 gives x = 1 except at v.
-        let f = op.factor(&pos, &areas, 0.0, &[(3, 1.0)]).unwrap();
+        let mut f = op.factor(&pos, &areas, 0.0, &[(3, 1.0)]).unwrap();
         let mut b = f.mass.clone();
-        f.factor.solve_in_place(&mut b);
+        f.solve_many_in_place(&mut b, 1).unwrap();
+        // The operator is not refactored while its factor is alive.
+        assert!(op.factor(&pos, &areas, 0.0, &[]).is_err());
         let expect = f.mass[3] / (f.mass[3] + 1.0);
         assert!((b[3] - expect).abs() < 1e-12);
         assert!((b[4] - 1.0).abs() < 1e-12);

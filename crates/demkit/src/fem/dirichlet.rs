@@ -6,14 +6,15 @@
 //! symbolic Cholesky analysis are computed once; each solve refactors numerically.
 
 use crate::Result;
-use crate::linalg::{CachedCholesky, StiffnessPattern};
+use crate::linalg::{SparseCholesky, StiffnessPattern};
+use std::cell::RefCell;
 
 /// A symmetric weighted Laplacian restricted to the free vertices of one connectivity.
 #[derive(Debug)]
 pub struct DirichletSystem {
     fixed: Vec<bool>,
     pattern: StiffnessPattern,
-    cholesky: CachedCholesky,
+    cholesky: RefCell<SparseCholesky>,
 }
 
 /// Tutte's weights: ½ per face corner, so every interior edge weighs 1 (DEM paper (4.13)).
@@ -27,7 +28,7 @@ impl DirichletSystem {
     /// free vertices). Vertices no face uses must be fixed.
     pub fn new(n_vertices: usize, faces: &[[u32; 3]], fixed: &[bool]) -> Result<Self> {
         let pattern = StiffnessPattern::new(n_vertices, faces, Some(fixed));
-        let cholesky = CachedCholesky::new(&pattern)?;
+        let cholesky = RefCell::new(SparseCholesky::for_stiffness(&pattern)?);
         Ok(Self {
             fixed: fixed.to_vec(),
             pattern,
@@ -46,13 +47,14 @@ impl DirichletSystem {
     pub fn solve(&self, weights: &[[f64; 3]], values: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
         let mut matrix = vec![0.0; self.pattern.nnz()];
         self.pattern.assemble(weights, &[], &mut matrix);
-        let factor = self.cholesky.factor(&self.pattern, &matrix)?;
+        let mut cholesky = self.cholesky.borrow_mut();
+        cholesky.factor(&matrix)?;
         let bx: Vec<f64> = values.iter().map(|p| p[0]).collect();
         let by: Vec<f64> = values.iter().map(|p| p[1]).collect();
         let n = self.pattern.n_unknowns();
         let mut rhs = self.pattern.fixed_rhs(weights, &bx);
         rhs.extend(self.pattern.fixed_rhs(weights, &by));
-        factor.solve_many_in_place(&mut rhs, 2);
+        cholesky.solve_many_in_place(&mut rhs, 2)?;
         let map = self.pattern.unknown_map();
         Ok((0..values.len())
             .map(|v| {

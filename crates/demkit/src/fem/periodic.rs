@@ -7,7 +7,7 @@
 use super::{cotangent_weights, face_gradient};
 use crate::geometry::signed_areas_2d;
 use crate::geometry::torus::FlatTorusMap;
-use crate::linalg::{CachedCholesky, StiffnessPattern};
+use crate::linalg::{SparseCholesky, StiffnessPattern};
 use crate::{Error, Result};
 use std::cell::RefCell;
 
@@ -60,7 +60,7 @@ impl UnfoldedFaces {
 #[derive(Debug)]
 pub struct PeriodicSystem {
     pattern: StiffnessPattern,
-    cholesky: CachedCholesky,
+    cholesky: RefCell<SparseCholesky>,
     pinned: Vec<bool>,
     values: RefCell<Vec<f64>>,
 }
@@ -70,7 +70,7 @@ impl PeriodicSystem {
     /// one per connected surface: the system is invariant under translations).
     pub fn new(n_vertices: usize, faces: &[[u32; 3]], pinned: &[bool]) -> Result<Self> {
         let pattern = StiffnessPattern::new(n_vertices, faces, Some(pinned));
-        let cholesky = CachedCholesky::new(&pattern)?;
+        let cholesky = RefCell::new(SparseCholesky::for_stiffness(&pattern)?);
         let values = RefCell::new(vec![0.0; pattern.nnz()]);
         Ok(Self {
             pattern,
@@ -97,7 +97,8 @@ impl PeriodicSystem {
     ) -> Result<Vec<[f64; 2]>> {
         let mut values = self.values.borrow_mut();
         self.pattern.assemble(weights, &[], &mut values);
-        let factor = self.cholesky.factor(&self.pattern, &values)?;
+        let mut cholesky = self.cholesky.borrow_mut();
+        cholesky.factor(&values)?;
         let n = self.pattern.n_unknowns();
         let unknown = self.pattern.unknown_map();
         let coordinate = |d: usize| pinned_at.iter().map(|p| p[d]).collect::<Vec<f64>>();
@@ -117,7 +118,7 @@ impl PeriodicSystem {
                 }
             }
         }
-        factor.solve_many_in_place(&mut rhs, 2);
+        cholesky.solve_many_in_place(&mut rhs, 2)?;
         if rhs.iter().any(|x| !x.is_finite()) {
             return Err(Error::Numerical(
                 "the periodic Laplace system has no finite solution".into(),

@@ -7,6 +7,7 @@
 //! The faces are bucketed once in a uniform grid of cells about one face across; a query tests
 //! the faces of its cell only.
 
+use super::grid::{Buckets, GridCells};
 use super::torus::FlatTorusMap;
 
 /// Where a point lies in a mesh: a face and the point's barycentric coordinates in it
@@ -39,7 +40,7 @@ pub fn interpolate(values: &[[f64; 3]], face: [u32; 3], weights: [f64; 3]) -> [f
 #[derive(Debug, Clone)]
 pub struct PlanarLocator {
     corners: Vec<[[f64; 2]; 3]>,
-    grid: Buckets,
+    grid: FaceGrid,
 }
 
 impl PlanarLocator {
@@ -61,7 +62,7 @@ impl PlanarLocator {
                 ([lo[0], lo[1], 0.0], [hi[0], hi[1], 0.0])
             })
             .collect();
-        let grid = Buckets::new(&boxes);
+        let grid = FaceGrid::new(&boxes);
         PlanarLocator { corners, grid }
     }
 
@@ -88,7 +89,7 @@ impl PlanarLocator {
 #[derive(Debug, Clone)]
 pub struct SphericalLocator {
     corners: Vec<[[f64; 3]; 3]>,
-    grid: Buckets,
+    grid: FaceGrid,
 }
 
 impl SphericalLocator {
@@ -112,7 +113,7 @@ impl SphericalLocator {
                 (lo, hi)
             })
             .collect();
-        let grid = Buckets::new(&boxes);
+        let grid = FaceGrid::new(&boxes);
         SphericalLocator { corners, grid }
     }
 
@@ -231,106 +232,52 @@ fn dist2(a: [f64; 3], b: [f64; 3]) -> f64 {
     (0..3).map(|d| (a[d] - b[d]) * (a[d] - b[d])).sum()
 }
 
-/// A uniform grid of cubic cells over boxes: each box is listed in every cell it overlaps,
-/// stored as (cell key, box) pairs sorted by key so that only occupied cells cost memory.
+/// The faces' boxes bucketed in a uniform grid ([`super::grid`]) of cubic cells; a box is
+/// listed in every cell it overlaps.
 #[derive(Debug, Clone)]
-struct Buckets {
-    lo: [f64; 3],
-    inv_cell: f64,
-    dims: [u64; 3],
-    keys: Vec<u64>,
-    items: Vec<u32>,
-}
+struct FaceGrid(Buckets<3>);
 
-impl Buckets {
-    /// Cells as wide as the boxes' mean extent (at least 1/2¹⁸ of the whole extent).
+impl FaceGrid {
+    /// Cells as wide as the boxes' mean extent (at least 1/2¹⁸ of the whole extent); boxes
+    /// with a non-finite coordinate are left out.
     fn new(boxes: &[([f64; 3], [f64; 3])]) -> Self {
+        let finite = |(a, b): &([f64; 3], [f64; 3])| a.iter().chain(b).all(|x| x.is_finite());
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
         let mut mean_extent = 0.0;
-        let mut finite = 0usize;
-        for (a, b) in boxes {
-            if !(a.iter().chain(b).all(|x| x.is_finite())) {
-                continue;
-            }
-            finite += 1;
+        let mut count = 0usize;
+        for (a, b) in boxes.iter().filter(|b| finite(b)) {
+            count += 1;
             for d in 0..3 {
                 lo[d] = lo[d].min(a[d]);
                 hi[d] = hi[d].max(b[d]);
             }
             mean_extent += (0..3).map(|d| b[d] - a[d]).fold(0.0, f64::max);
         }
-        if finite == 0 {
-            return Buckets {
-                lo: [0.0; 3],
-                inv_cell: 1.0,
-                dims: [1; 3],
-                keys: Vec::new(),
-                items: Vec::new(),
-            };
+        if count == 0 {
+            return FaceGrid(GridCells::new([0.0; 3], [1.0; 3], [1; 3]).bucket(0, |_| None));
         }
         let whole = (0..3).map(|d| hi[d] - lo[d]).fold(0.0, f64::max);
-        let cell = (mean_extent / finite as f64)
+        let cell = (mean_extent / count as f64)
             .max(whole / 262_144.0)
             .max(f64::MIN_POSITIVE);
         let inv_cell = 1.0 / cell;
-        let dims = [0, 1, 2].map(|d| ((hi[d] - lo[d]) * inv_cell).floor() as u64 + 1);
-        let mut pairs: Vec<(u64, u32)> = Vec::with_capacity(2 * boxes.len());
-        let mut grid = Buckets {
-            lo,
-            inv_cell,
-            dims,
-            keys: Vec::new(),
-            items: Vec::new(),
-        };
-        for (i, (a, b)) in boxes.iter().enumerate() {
-            if !(a.iter().chain(b).all(|x| x.is_finite())) {
-                continue;
-            }
-            let (ca, cb) = (grid.cell(*a), grid.cell(*b));
-            for x in ca[0]..=cb[0] {
-                for y in ca[1]..=cb[1] {
-                    for z in ca[2]..=cb[2] {
-                        pairs.push((grid.key([x, y, z]), i as u32));
-                    }
-                }
-            }
-        }
-        pairs.sort_unstable();
-        grid.keys = pairs.iter().map(|p| p.0).collect();
-        grid.items = pairs.iter().map(|p| p.1).collect();
-        grid
+        let dims = [0, 1, 2].map(|d| ((hi[d] - lo[d]) * inv_cell).floor() as usize + 1);
+        let cells = GridCells::with_inverse(lo, [inv_cell; 3], dims);
+        FaceGrid(cells.bucket(boxes.len(), |i| {
+            let (a, b) = boxes[i];
+            finite(&boxes[i]).then(|| (cells.cell_of(a), cells.cell_of(b)))
+        }))
     }
 
-    /// The cell of a point, clamped to the grid.
-    fn cell(&self, p: [f64; 3]) -> [u64; 3] {
-        [0, 1, 2].map(|d| {
-            let x = ((p[d] - self.lo[d]) * self.inv_cell).floor();
-            if x.is_nan() || x < 0.0 {
-                0
-            } else {
-                (x as u64).min(self.dims[d] - 1)
-            }
-        })
-    }
-
-    fn key(&self, c: [u64; 3]) -> u64 {
-        (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
-    }
-
-    /// The boxes listed in the cell of `p` (empty outside the grid).
+    /// The boxes listed in the cell of `p` (empty outside the grid, beyond a rounding margin).
     fn candidates(&self, p: [f64; 3]) -> &[u32] {
-        let outside = (0..3).any(|d| {
-            let x = (p[d] - self.lo[d]) * self.inv_cell;
-            !(x >= -1e-9 && x <= self.dims[d] as f64 + 1e-9)
-        });
-        if outside {
+        let cells = self.0.cells();
+        let (x, dims) = (cells.coordinates(p), cells.dims());
+        if (0..3).any(|d| !(x[d] >= -1e-9 && x[d] <= dims[d] as f64 + 1e-9)) {
             return &[];
         }
-        let k = self.key(self.cell(p));
-        let start = self.keys.partition_point(|&x| x < k);
-        let end = self.keys.partition_point(|&x| x <= k);
-        &self.items[start..end]
+        self.0.at(cells.cell_of(p))
     }
 }
 

@@ -17,7 +17,7 @@
 use crate::fem::cotangent_weights;
 use crate::geometry::sphere::{project_from_south, unproject_from_north, unproject_from_south};
 use crate::geometry::{local_frame, norm, sub};
-use crate::linalg::{CachedCholesky, StiffnessPattern};
+use crate::linalg::{SparseCholesky, StiffnessPattern};
 use crate::qc::{LinearBeltramiSolver, triangle_beltrami, truncate};
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -128,23 +128,18 @@ fn punctured_plane_map(
         }
     }
     let pattern = StiffnessPattern::new(n, faces, Some(&fixed));
-    let chol = CachedCholesky::new(&pattern)?;
+    let mut chol = SparseCholesky::for_stiffness(&pattern)?;
     let mut values = vec![0.0; pattern.nnz()];
     pattern.assemble(&w, &[], &mut values);
-    let factor = match chol.factor(&pattern, &values) {
-        Ok(f) => f,
-        Err(e) if !positive => {
-            let _ = e;
-            return Ok(None);
-        }
-        Err(e) => return Err(e),
-    };
+    if let Err(e) = chol.factor(&values) {
+        return if positive { Err(e) } else { Ok(None) };
+    }
     let bx: Vec<f64> = boundary.iter().map(|p| p[0]).collect();
     let by: Vec<f64> = boundary.iter().map(|p| p[1]).collect();
     let m = pattern.n_unknowns();
     let mut rhs = pattern.fixed_rhs(&w, &bx);
     rhs.extend(pattern.fixed_rhs(&w, &by));
-    factor.solve_many_in_place(&mut rhs, 2);
+    chol.solve_many_in_place(&mut rhs, 2)?;
     let map = pattern.unknown_map();
     let z: Vec<[f64; 3]> = (0..n)
         .map(|v| {

@@ -10,12 +10,12 @@
 
 mod cholesky;
 mod dense;
+mod element;
 mod lu;
 mod pattern;
-mod spd;
 
-pub use cholesky::{CachedCholesky, CholeskyFactor};
+pub use cholesky::{SparseCholesky, minimum_degree_order};
 pub use dense::solve_dense;
+pub use element::{ElementPattern, packed_index};
 pub use lu::solve_lu;
 pub use pattern::StiffnessPattern;
-pub use spd::{ElementPattern, SpdSolver, minimum_degree_order, packed_index};

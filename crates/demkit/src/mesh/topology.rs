@@ -112,10 +112,28 @@ pub fn vertex_faces_where(
     faces: &[[u32; 3]],
     keep: impl Fn(usize, usize) -> bool,
 ) -> (Vec<usize>, Vec<u32>) {
+    vertex_corners(n_vertices, faces, |f, c| {
+        keep(faces[f][c] as usize, f).then_some(f as u32)
+    })
+}
+
+/// Vertex–corner incidence in compressed form, with an entry of the caller's choosing per
+/// corner: `entry(f, c)` for corner `c` of face `f` is listed at vertex `faces[f][c]` (or
+/// nowhere if it is `None`), the entries of vertex `v` being `out[offsets[v]..offsets[v + 1]]`
+/// in increasing (face, corner) order. `entry` is called twice per corner (count, then fill)
+/// and must answer the same both times. [`vertex_faces`] is this with the face index.
+///
+/// # Panics
+/// If a face uses a vertex index `>= n_vertices` (validated meshes never do).
+pub fn vertex_corners<T: Copy + Default>(
+    n_vertices: usize,
+    faces: &[[u32; 3]],
+    entry: impl Fn(usize, usize) -> Option<T>,
+) -> (Vec<usize>, Vec<T>) {
     let mut offsets = vec![0usize; n_vertices + 1];
     for (fi, f) in faces.iter().enumerate() {
-        for &v in f {
-            if keep(v as usize, fi) {
+        for (c, &v) in f.iter().enumerate() {
+            if entry(fi, c).is_some() {
                 offsets[v as usize + 1] += 1;
             }
         }
@@ -124,17 +142,17 @@ pub fn vertex_faces_where(
         offsets[i + 1] += offsets[i];
     }
     let mut fill = offsets.clone();
-    let mut ids = vec![0u32; offsets[n_vertices]];
+    let mut out = vec![T::default(); offsets[n_vertices]];
     for (fi, f) in faces.iter().enumerate() {
-        for &v in f {
-            if keep(v as usize, fi) {
+        for (c, &v) in f.iter().enumerate() {
+            if let Some(e) = entry(fi, c) {
                 let slot = &mut fill[v as usize];
-                ids[*slot] = fi as u32;
+                out[*slot] = e;
                 *slot += 1;
             }
         }
     }
-    (offsets, ids)
+    (offsets, out)
 }
 
 /// The vertices joined to each vertex by an edge of `faces` (each once).

@@ -1,76 +1,42 @@
-//! Uniform grids of buckets over a bounding box: which points or segments may lie near a box.
+//! The cartograms' spatial index: boxes or points bucketed in a uniform grid
+//! ([`crate::geometry::grid`]) of about one cell per item over their bounding box, to find
+//! which of them may lie near a box.
 
 use super::regions::bbox;
+use crate::geometry::grid::{self, GridCells};
 
-/// A uniform grid of buckets over a bounding box.
-pub(crate) struct Buckets {
-    lo: [f64; 2],
-    cell: [f64; 2],
-    n: usize,
-    items: Vec<Vec<usize>>,
-}
+/// Boxes bucketed in a grid of `n × n` cells, `n = ⌈√(number of boxes)⌉` (at most 1024).
+pub(crate) struct Buckets(grid::Buckets<2>);
 
 impl Buckets {
-    pub(crate) fn new(lo: [f64; 2], hi: [f64; 2], count: usize) -> Self {
-        let n = ((count as f64).sqrt().ceil() as usize).clamp(1, 1024);
-        let cell = [
-            ((hi[0] - lo[0]) / n as f64).max(f64::MIN_POSITIVE),
-            ((hi[1] - lo[1]) / n as f64).max(f64::MIN_POSITIVE),
-        ];
-        Self {
-            lo,
-            cell,
-            n,
-            items: vec![Vec::new(); n * n],
-        }
+    /// Buckets the boxes `(lo, hi)` in a grid over the box `lo..hi` that holds them.
+    pub(crate) fn new(lo: [f64; 2], hi: [f64; 2], boxes: &[([f64; 2], [f64; 2])]) -> Self {
+        let n = ((boxes.len() as f64).sqrt().ceil() as usize).clamp(1, 1024);
+        let cell = [0, 1].map(|d| ((hi[d] - lo[d]) / n as f64).max(f64::MIN_POSITIVE));
+        let cells = GridCells::new(lo, cell, [n, n]);
+        Self(cells.bucket(boxes.len(), |k| {
+            Some((cells.cell_of(boxes[k].0), cells.cell_of(boxes[k].1)))
+        }))
     }
 
-    fn range(&self, lo: [f64; 2], hi: [f64; 2]) -> ([usize; 2], [usize; 2]) {
-        let idx = |x: f64, k: usize| {
-            (((x - self.lo[k]) / self.cell[k]).floor().max(0.0) as usize).min(self.n - 1)
-        };
-        (
-            [idx(lo[0], 0), idx(lo[1], 1)],
-            [idx(hi[0], 0), idx(hi[1], 1)],
-        )
+    /// The points bucketed, each as a box of its own.
+    pub(crate) fn of_points(points: &[[f64; 2]]) -> Self {
+        let (lo, hi) = bbox(points.iter().copied());
+        let boxes: Vec<([f64; 2], [f64; 2])> = points.iter().map(|&p| (p, p)).collect();
+        Self::new(lo, hi, &boxes)
     }
 
-    pub(crate) fn add_box(&mut self, lo: [f64; 2], hi: [f64; 2], item: usize) {
-        let (a, b) = self.range(lo, hi);
-        for i in a[0]..=b[0] {
-            for j in a[1]..=b[1] {
-                self.items[i * self.n + j].push(item);
-            }
-        }
-    }
-
-    /// Every item stored in a cell meeting the box (an item may come more than once).
+    /// Every item stored in a cell meeting the box `lo..hi` (an item may come more than once),
+    /// cell by cell along x, then y within each column.
     pub(crate) fn visit(&self, lo: [f64; 2], hi: [f64; 2], mut f: impl FnMut(usize)) {
-        let (a, b) = self.range(lo, hi);
+        let cells = self.0.cells();
+        let (a, b) = (cells.cell_of(lo), cells.cell_of(hi));
         for i in a[0]..=b[0] {
             for j in a[1]..=b[1] {
-                for &v in &self.items[i * self.n + j] {
-                    f(v);
+                for &v in self.0.at([i, j]) {
+                    f(v as usize);
                 }
             }
         }
-    }
-}
-
-/// Points bucketed on a grid.
-pub(super) struct Grid(Buckets);
-
-impl Grid {
-    pub(super) fn new(points: &[[f64; 2]], count: usize) -> Self {
-        let (lo, hi) = bbox(points.iter().copied());
-        let mut b = Buckets::new(lo, hi, count);
-        for (v, &p) in points.iter().enumerate() {
-            b.add_box(p, p, v);
-        }
-        Grid(b)
-    }
-
-    pub(super) fn visit_box(&self, lo: [f64; 2], hi: [f64; 2], f: impl FnMut(usize)) {
-        self.0.visit(lo, hi, f)
     }
 }

@@ -17,17 +17,14 @@ pub(crate) fn proper_crossings(segments: &[[[f64; 2]; 2]]) -> Vec<(usize, usize)
         return out;
     }
     let (lo, hi) = bbox(segments.iter().flatten().copied());
-    let mut grid = Buckets::new(lo, hi, segments.len());
     let boxed = |[a, b]: &[[f64; 2]; 2]| {
         (
             [a[0].min(b[0]), a[1].min(b[1])],
             [a[0].max(b[0]), a[1].max(b[1])],
         )
     };
-    for (i, s) in segments.iter().enumerate() {
-        let (l, h) = boxed(s);
-        grid.add_box(l, h, i);
-    }
+    let boxes: Vec<([f64; 2], [f64; 2])> = segments.iter().map(boxed).collect();
+    let grid = Buckets::new(lo, hi, &boxes);
     let mut seen = Vec::new();
     for (i, s) in segments.iter().enumerate() {
         let (l, h) = boxed(s);

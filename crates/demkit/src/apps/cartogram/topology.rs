@@ -3,7 +3,7 @@
 //! refused (a ring crossing itself, regions overlapping), except the slight overlaps of
 //! borders that were not shared exactly, which are kept with a warning.
 
-use super::buckets::Grid;
+use super::buckets::Buckets;
 use super::cleaning::remove_spikes;
 use super::crossings::{crossing_point, proper_crossings};
 use super::regions::RegionSet;
@@ -64,7 +64,7 @@ impl RegionSet {
             }
         }
         let reach = tol.max(near);
-        let grid = Grid::new(&self.points, self.points.len());
+        let grid = Buckets::of_points(&self.points);
         let mut inner: HashMap<[usize; 2], Vec<usize>> = HashMap::new();
         // Per region, the vertices of its neighbours taken onto its edges from off them.
         let mut joined = vec![0usize; self.regions.len()];
@@ -73,7 +73,7 @@ impl RegionSet {
             let d = [pb[0] - pa[0], pb[1] - pa[1]];
             let len2 = d[0] * d[0] + d[1] * d[1];
             let mut on: Vec<(f64, usize)> = Vec::new();
-            grid.visit_box(min2(pa, pb, -reach), max2(pa, pb, reach), |v| {
+            grid.visit(min2(pa, pb, -reach), max2(pa, pb, reach), |v| {
                 if v == *a || v == *b {
                     return;
                 }

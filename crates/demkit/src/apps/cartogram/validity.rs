@@ -218,10 +218,8 @@ fn contained(unit: &[Vec<Polygon>]) -> Vec<(usize, usize, usize)> {
         return out;
     }
     let (lo, hi) = bbox(boxes.iter().flat_map(|b| [b.2, b.3]));
-    let mut grid = Buckets::new(lo, hi, boxes.len());
-    for (i, b) in boxes.iter().enumerate() {
-        grid.add_box(b.2, b.3, i);
-    }
+    let extents: Vec<([f64; 2], [f64; 2])> = boxes.iter().map(|b| (b.2, b.3)).collect();
+    let grid = Buckets::new(lo, hi, &extents);
     for &(r, k, plo, phi) in &boxes {
         let mut seen = HashSet::new();
         let mut inside_of = None;

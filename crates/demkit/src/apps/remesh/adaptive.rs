@@ -7,6 +7,7 @@
 
 use super::region::Region;
 use super::sampling::{dist, hex_rows};
+use crate::geometry::grid::GridCells;
 
 /// The radius of a greedy Poisson-disk set with the density of a hexagonal lattice of spacing
 /// `s` is about this times `s` (random sequential packing covers about 55 % of the plane).
@@ -84,10 +85,8 @@ impl Candidates {
         let mut grid: Vec<Vec<u32>> = vec![Vec::new(); dims[0] * dims[1]];
         let mut kept: Vec<[f64; 2]> = Vec::new();
         let mut kept_radius: Vec<f64> = Vec::new();
-        let cell_of = |p: [f64; 2]| -> [isize; 2] {
-            [0, 1]
-                .map(|d| (((p[d] - lo[d]) / cell).floor() as isize).clamp(0, dims[d] as isize - 1))
-        };
+        let cells = GridCells::new(lo, [cell; 2], dims);
+        let cell_of = |p: [f64; 2]| cells.cell_of(p).map(|c| c as isize);
         for &i in &self.order {
             let p = self.points[i];
             let radius = RADIUS_PER_SPACING * h * self.factor[i];
@@ -106,7 +105,7 @@ impl Candidates {
                         if x < 0 || y < 0 || x >= dims[0] as isize || y >= dims[1] as isize {
                             continue;
                         }
-                        for &k in &grid[y as usize * dims[0] + x as usize] {
+                        for &k in &grid[cells.index([x as usize, y as usize])] {
                             let k = k as usize;
                             if dist(kept[k], p) < radius.min(kept_radius[k]) {
                                 free = false;
@@ -119,7 +118,7 @@ impl Candidates {
             if !free || region.near_boundary(p, margin * h * self.factor[i]) {
                 continue;
             }
-            grid[c[1] as usize * dims[0] + c[0] as usize].push(kept.len() as u32);
+            grid[cells.index([c[0] as usize, c[1] as usize])].push(kept.len() as u32);
             kept.push(p);
             kept_radius.push(radius);
         }

@@ -2,6 +2,7 @@
 //! triangles are, and how far its vertices lie from the surface it was made from.
 
 use crate::TriMesh;
+use crate::geometry::grid::GridCells;
 use crate::geometry::triangle_area;
 use crate::geometry::{dot, norm, sub};
 
@@ -60,32 +61,23 @@ pub fn max_distance_to_surface(points: &[[f64; 3]], surface: &TriMesh, tol: f64)
     let vol = (0..3).map(|d| (hi[d] - lo[d]).max(1e-300)).product::<f64>();
     let cell = (vol * 2.0 / nf).cbrt().max(1e-300);
     let dims = [0, 1, 2].map(|d| (((hi[d] - lo[d]) / cell).ceil() as usize).clamp(1, 512));
-    let index = |p: [f64; 3]| -> [usize; 3] {
-        [0, 1, 2].map(|d| {
-            let x = ((p[d] - lo[d]) / (hi[d] - lo[d]).max(1e-300) * dims[d] as f64).floor();
-            (x.max(0.0) as usize).min(dims[d] - 1)
-        })
-    };
-    let mut cells: Vec<Vec<u32>> = vec![Vec::new(); dims[0] * dims[1] * dims[2]];
-    for f in 0..surface.n_faces() {
+    let size = [0, 1, 2].map(|d| (hi[d] - lo[d]).max(1e-300) / dims[d] as f64);
+    let cells = GridCells::new(lo, size, dims);
+    // Each face in the cells its box, grown by `tol`, meets: a face within `tol` of a point is
+    // listed in the point's cell.
+    let grid = cells.bucket(surface.n_faces(), |f| {
         let c = surface.corners(f);
-        let a = index([0, 1, 2].map(|d| c[0][d].min(c[1][d]).min(c[2][d]) - tol));
-        let b = index([0, 1, 2].map(|d| c[0][d].max(c[1][d]).max(c[2][d]) + tol));
-        for i in a[0]..=b[0] {
-            for j in a[1]..=b[1] {
-                for k in a[2]..=b[2] {
-                    cells[(k * dims[1] + j) * dims[0] + i].push(f as u32);
-                }
-            }
-        }
-    }
+        Some((
+            cells.cell_of([0, 1, 2].map(|d| c[0][d].min(c[1][d]).min(c[2][d]) - tol)),
+            cells.cell_of([0, 1, 2].map(|d| c[0][d].max(c[1][d]).max(c[2][d]) + tol)),
+        ))
+    });
     let mut worst = 0.0f64;
     for &p in points {
         let inside_box = (0..3).all(|d| p[d] >= lo[d] && p[d] <= hi[d]);
         let mut d = f64::INFINITY;
         if inside_box {
-            let c = index(p);
-            for &f in &cells[(c[2] * dims[1] + c[1]) * dims[0] + c[0]] {
+            for &f in grid.at(cells.cell_of(p)) {
                 d = d.min(point_triangle_distance(p, surface.corners(f as usize)));
             }
         }

@@ -3,6 +3,7 @@
 //! segments for distance queries.
 
 use super::sampling::hex_rows;
+use crate::geometry::grid::{Buckets, GridCells};
 use crate::geometry::segment::segment_distance;
 
 /// The boundary polylines of a planar map and a grid of their segments.
@@ -11,10 +12,8 @@ pub struct Region {
     segments: Vec<[[f64; 2]; 2]>,
     lo: [f64; 2],
     hi: [f64; 2],
-    cell: f64,
-    dims: [usize; 2],
     /// Per cell, the segments whose box (grown by one cell) touches it.
-    cells: Vec<Vec<u32>>,
+    grid: Buckets<2>,
 }
 
 impl Region {
@@ -41,38 +40,33 @@ impl Region {
             cell_size *= 2.0;
         }
         let dims = [0, 1].map(|d| (span[d] / cell_size).floor() as usize + 1);
-        let mut cells = vec![Vec::new(); dims[0] * dims[1]];
-        let mut region = Self {
+        let cells = GridCells::new(lo, [cell_size; 2], dims);
+        let grid = cells.bucket(segments.len(), |s| {
+            let [a, b] = segments[s];
+            let c0 = cells.cell_of([a[0].min(b[0]), a[1].min(b[1])]);
+            let c1 = cells.cell_of([a[0].max(b[0]), a[1].max(b[1])]);
+            let grown = |c: [usize; 2], up: bool| {
+                [0, 1].map(|d| {
+                    if up {
+                        (c[d] + 1).min(dims[d] - 1)
+                    } else {
+                        c[d].saturating_sub(1)
+                    }
+                })
+            };
+            Some((grown(c0, false), grown(c1, true)))
+        });
+        Self {
             segments,
             lo,
             hi,
-            cell: cell_size,
-            dims,
-            cells: Vec::new(),
-        };
-        for (s, [a, b]) in region.segments.iter().enumerate() {
-            let c0 = region.cell_of([a[0].min(b[0]), a[1].min(b[1])]);
-            let c1 = region.cell_of([a[0].max(b[0]), a[1].max(b[1])]);
-            for i in c0[0].saturating_sub(1)..=(c1[0] + 1).min(dims[0] - 1) {
-                for j in c0[1].saturating_sub(1)..=(c1[1] + 1).min(dims[1] - 1) {
-                    cells[j * dims[0] + i].push(s as u32);
-                }
-            }
+            grid,
         }
-        region.cells = cells;
-        region
     }
 
     /// The bounding box of the boundary.
     pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
         (self.lo, self.hi)
-    }
-
-    fn cell_of(&self, p: [f64; 2]) -> [usize; 2] {
-        [0, 1].map(|d| {
-            let i = ((p[d] - self.lo[d]) / self.cell).floor();
-            (i.max(0.0) as usize).min(self.dims[d] - 1)
-        })
     }
 
     /// The abscissae where the horizontal line at height `y` crosses the boundary, sorted: a
@@ -122,8 +116,8 @@ impl Region {
         {
             return false;
         }
-        let c = self.cell_of(p);
-        self.cells[c[1] * self.dims[0] + c[0]]
+        self.grid
+            .at(self.grid.cells().cell_of(p))
             .iter()
             .any(|&s| {
                 let [a, b] = self.segments[s as usize];

@@ -59,11 +59,11 @@ pub(super) fn harmonic_measure(mesh: &TriMesh, outer: &[u32], p: u32) -> Option<
     let pattern = StiffnessPattern::new(n, &mesh.faces, Some(&fixed));
     let mut values = vec![0.0; pattern.nnz()];
     pattern.assemble(&weights, &[], &mut values);
-    let chol = CachedCholesky::new(&pattern).ok()?;
-    let factor = chol.factor(&pattern, &values).ok()?;
+    let mut chol = SparseCholesky::for_stiffness(&pattern).ok()?;
+    chol.factor(&values).ok()?;
     let mut g = vec![0.0; pattern.n_unknowns()];
     g[pattern.unknown_of(p as usize)?] = 1.0;
-    factor.solve_in_place(&mut g);
+    chol.solve_in_place(&mut g).ok()?;
     let green = |v: u32| pattern.unknown_of(v as usize).map_or(0.0, |u| g[u]);
     let mut flux = vec![0.0; n];
     for (f, w) in mesh.faces.iter().zip(&weights) {
@@ -116,13 +116,13 @@ pub(super) fn fan_tutte(
     if m > 0 {
         let mut values = vec![0.0; pattern.nnz()];
         pattern.assemble(&weights, &[], &mut values);
-        let chol = CachedCholesky::new(&pattern)?;
-        let factor = chol.factor(&pattern, &values)?;
+        let mut chol = SparseCholesky::for_stiffness(&pattern)?;
+        chol.factor(&values)?;
         let bx: Vec<f64> = z.iter().map(|w| w.re).collect();
         let by: Vec<f64> = z.iter().map(|w| w.im).collect();
         let mut rhs = pattern.fixed_rhs(&weights, &bx);
         rhs.extend(pattern.fixed_rhs(&weights, &by));
-        factor.solve_many_in_place(&mut rhs, 2);
+        chol.solve_many_in_place(&mut rhs, 2)?;
         for (v, w) in z.iter_mut().enumerate() {
             if let Some(u) = pattern.unknown_of(v) {
                 *w = C64::new(rhs[u], rhs[m + u]);

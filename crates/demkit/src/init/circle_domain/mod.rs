@@ -52,7 +52,7 @@
 use crate::fem::{cotangent_weights, lumped_mass};
 use crate::geometry::{add, cross, face_areas, local_frame, norm, signed_area_2d, sub};
 use crate::linalg::{
-    CachedCholesky, ElementPattern, SpdSolver, StiffnessPattern, minimum_degree_order, packed_index,
+    ElementPattern, SparseCholesky, StiffnessPattern, minimum_degree_order, packed_index,
 };
 use crate::mesh::topology::{topology, vertex_faces};
 use crate::{Error, Result, TriMesh};

@@ -300,7 +300,7 @@ pub(super) fn penalty_row(u: C64) -> [f64; 5] {
 pub(super) struct NormalSystem {
     pub(super) layout: Layout,
     pub(super) pattern: ElementPattern,
-    pub(super) solver: Option<SpdSolver>,
+    pub(super) solver: Option<SparseCholesky>,
     pub(super) element_values: Vec<f64>,
     pub(super) values: Vec<f64>,
 }
@@ -321,7 +321,7 @@ impl NormalSystem {
         )?;
         let solver = if layout.n_unknowns > 0 {
             let order = layout.elimination_order(vertex_order);
-            Some(SpdSolver::with_ordering(
+            Some(SparseCholesky::with_ordering(
                 pattern.n_unknowns(),
                 pattern.col_ptr(),
                 pattern.row_idx(),
@@ -415,7 +415,7 @@ impl NormalSystem {
     pub(super) fn solve(&mut self, mut g: Vec<f64>) -> Result<Vec<f64>> {
         g.iter_mut().for_each(|x| *x = -*x);
         if let Some(solver) = self.solver.as_mut() {
-            solver.solve_in_place(&mut g)?;
+            solver.solve_finite_in_place(&mut g)?;
         }
         Ok(g)
     }

@@ -24,34 +24,20 @@ pub(super) struct Corner {
 /// are v → `next` of its corners, so twins are found by a scan of one short contiguous list.
 /// Queries take the faces' `alive` flags, so faces can be dropped without a rebuild.
 pub(super) struct Incidence {
-    pub(super) start: Vec<u32>,
+    pub(super) start: Vec<usize>,
     pub(super) corners: Vec<Corner>,
 }
 
 impl Incidence {
     pub(super) fn new(faces: &[[u32; 3]], nv: usize) -> Self {
-        let mut start = vec![0u32; nv + 1];
-        for f in faces {
-            for &v in f {
-                start[v as usize + 1] += 1;
-            }
-        }
-        for v in 0..nv {
-            start[v + 1] += start[v];
-        }
-        let mut fill = start.clone();
-        let mut corners = vec![Corner::default(); start[nv] as usize];
-        for (k, f) in faces.iter().enumerate() {
-            for e in 0..3 {
-                let v = f[e] as usize;
-                corners[fill[v] as usize] = Corner {
-                    face: k as u32,
-                    next: f[(e + 1) % 3],
-                    prev: f[(e + 2) % 3],
-                };
-                fill[v] += 1;
-            }
-        }
+        let (start, corners) = crate::mesh::topology::vertex_corners(nv, faces, |k, e| {
+            let f = faces[k];
+            Some(Corner {
+                face: k as u32,
+                next: f[(e + 1) % 3],
+                prev: f[(e + 2) % 3],
+            })
+        });
         Incidence { start, corners }
     }
 
@@ -61,7 +47,7 @@ impl Incidence {
         v: u32,
         alive: &'a [bool],
     ) -> impl Iterator<Item = &'a Corner> + 'a {
-        self.corners[self.start[v as usize] as usize..self.start[v as usize + 1] as usize]
+        self.corners[self.start[v as usize]..self.start[v as usize + 1]]
             .iter()
             .filter(move |c| alive[c.face as usize])
     }
@@ -245,7 +231,7 @@ pub(super) fn check_disk(pos: &[[f64; 2]], faces: &[[u32; 3]], n_roi_faces: usiz
     let inc = Incidence::new(faces, nv);
     let fail = |what: &str| Err(Error::Numerical(format!("sea construction: {what}")));
     for v in 0..nv as u32 {
-        let list = &inc.corners[inc.start[v as usize] as usize..inc.start[v as usize + 1] as usize];
+        let list = &inc.corners[inc.start[v as usize]..inc.start[v as usize + 1]];
         for (i, c) in list.iter().enumerate() {
             if list[i + 1..].iter().any(|d| d.next == c.next) {
                 return fail("an edge is used twice in the same direction");

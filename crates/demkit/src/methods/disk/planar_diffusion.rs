@@ -197,8 +197,8 @@ impl Flow for PlanarFlow<'_, '_> {
             .min(SMOOTHING_AREA * roi_area);
 
         // Diffusion (4.34): (A + T L) ρ̃ = A ρ.
-        let step_operator = self.diffusion.factor(r, areas, smoothing_time, &[])?;
-        let rho = step_operator.diffuse(rho_v);
+        let mut step_operator = self.diffusion.factor(r, areas, smoothing_time, &[])?;
+        let rho = step_operator.diffuse(rho_v)?;
         let mass = &step_operator.mass;
 
         // Velocity −∇ρ̃/ρ̃ by (4.37) and W^FV (3.4), smoothed with the same factor.
@@ -209,7 +209,7 @@ impl Flow for PlanarFlow<'_, '_> {
             velocity[i] = -mass[i] * g[0] / p;
             velocity[n + i] = -mass[i] * g[1] / p;
         }
-        step_operator.factor.solve_many_in_place(&mut velocity, 2);
+        step_operator.solve_many_in_place(&mut velocity, 2)?;
         let mut step: Vec<[f64; 2]> = (0..n)
             .map(|i| [dt * velocity[i], dt * velocity[n + i]])
             .collect();

@@ -80,10 +80,9 @@ impl<'a> SphereDiffusion<'a> {
 
     /// One backward-Euler diffusion step (3.9), `(A + δt L) ρ = A ρ_V` ([`DiffusionOperator`]).
     fn diffuse(&self, map: &[[f64; 3]], d: &Density, dt: f64) -> Result<Vec<f64>> {
-        Ok(self
-            .operator
+        self.operator
             .factor(map, &d.areas, dt, &[])?
-            .diffuse(&d.rho_v))
+            .diffuse(&d.rho_v)
     }
 
     /// The diffusion operator of this mesh, for other systems on the same connectivity.

@@ -216,13 +216,13 @@ impl Flow for LandmarkFlow<'_> {
         // Semi-implicit step: the density term explicit, the harmonic and landmark terms
         // implicit, f_new = argmin ½|f − f*|²_A + ½δtβ fᵀLf + ½δtγ Σ|f(p_i) − q_i|², i.e.
         // (A + δtβ L + δtγ C) f_new = A f* + δtγ C q with f* = f + δt α ṽ.
-        let system = self.diffusion.operator().factor(
+        let mut system = self.diffusion.operator().factor(
             &x,
             &d.areas,
             dt * config.beta,
             &self.landmark_penalty,
         )?;
-        let (factor, mass) = (&system.factor, &system.mass);
+        let mass = &system.mass;
         let n = x.len();
         let mut rhs = vec![0.0; 3 * n];
         for i in 0..n {
@@ -235,7 +235,7 @@ impl Flow for LandmarkFlow<'_> {
                 rhs[k * n + vtx] += dt * config.gamma * q[k];
             }
         }
-        factor.solve_many_in_place(&mut rhs, 3);
+        system.solve_many_in_place(&mut rhs, 3)?;
         let step: Vec<[f64; 3]> = (0..n)
             .into_par_iter()
             .map(|i| {

@@ -198,10 +198,10 @@ impl Flow for TorusFlow<'_> {
         } = &m.data;
         let (faces, n) = (self.faces, map.points.len());
         let mass = lumped_mass(n, faces, areas);
-        let factor = self
+        let rho = self
             .diffusion
-            .factor_weights(&unfolded.cotangent_weights(), mass, h, &[])?;
-        let rho = factor.diffuse(rho_v);
+            .factor_weights(&unfolded.cotangent_weights(), mass, h, &[])?
+            .diffuse(rho_v)?;
         let grad = self
             .incidence
             .apply_vec(areas, &unfolded.gradient(faces, &rho));

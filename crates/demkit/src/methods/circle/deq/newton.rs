@@ -17,7 +17,7 @@ use super::parameters::Parameters;
 use crate::Result;
 use crate::fem::VertexFaces;
 use crate::geometry::face_areas;
-use crate::linalg::{ElementPattern, SpdSolver, packed_index};
+use crate::linalg::{ElementPattern, SparseCholesky, packed_index};
 use crate::mesh::topology::{ring_distances, vertex_neighbours};
 use crate::methods::disk::planar_diffusion::collapse_time;
 use crate::methods::iteration::{Flow, Keep, Measured, Moved, Rules, Stationary, Step, iterate};
@@ -258,7 +258,7 @@ struct Newton<'p, 'a> {
     /// For each face, each corner's unknowns' places in the face's element of the Hessian.
     places: Vec<[[u8; 4]; 3]>,
     pattern: ElementPattern,
-    solver: SpdSolver,
+    solver: SparseCholesky,
     incidence: VertexFaces,
     /// Built the first time a step is blocked (many minimisations never need it).
     neighbours: std::cell::OnceCell<Vec<Vec<u32>>>,
@@ -312,7 +312,7 @@ impl<'p, 'a> Newton<'p, 'a> {
             places.push(place);
         }
         let pattern = ElementPattern::new(params.n, elements.iter().map(|e| e.as_slice()))?;
-        let solver = SpdSolver::for_pattern(&pattern)?;
+        let solver = SparseCholesky::for_pattern(&pattern)?;
         let flow = Self {
             p,
             total_population: p.population.iter().sum(),
@@ -425,7 +425,7 @@ impl<'p, 'a> Newton<'p, 'a> {
             self.stale += 1;
         }
         let mut step: Vec<f64> = self.grad.iter().map(|g| -g).collect();
-        if self.solver.solve_in_place(&mut step).is_err() {
+        if self.solver.solve_finite_in_place(&mut step).is_err() {
             return None;
         }
         let slope: f64 = step.iter().zip(&self.grad).map(|(s, g)| s * g).sum();

@@ -15,7 +15,7 @@
 use super::energy::{self, Face};
 use super::layout::Layout;
 use crate::geometry::{face_areas, signed_area_2d};
-use crate::linalg::{ElementPattern, SpdSolver, packed_index};
+use crate::linalg::{ElementPattern, SparseCholesky, packed_index};
 use crate::mesh::topology::{ring_distances, vertex_neighbours};
 use crate::{Result, TriMesh};
 use rayon::prelude::*;
@@ -174,7 +174,7 @@ struct Region<'a> {
     unknown: Vec<u32>,
     n: usize,
     pattern: ElementPattern,
-    solver: SpdSolver,
+    solver: SparseCholesky,
     element_values: Vec<f64>,
     values: Vec<f64>,
 }
@@ -225,7 +225,7 @@ impl<'a> Region<'a> {
             .collect();
         let n = n as usize;
         let pattern = ElementPattern::new(n, elements.iter().map(|e| e.as_slice()))?;
-        let solver = SpdSolver::for_pattern(&pattern)?;
+        let solver = SparseCholesky::for_pattern(&pattern)?;
         Ok(Self {
             faces,
             moving,
@@ -330,7 +330,7 @@ impl<'a> Region<'a> {
             return Ok(false);
         }
         let mut step: Vec<f64> = grad.iter().map(|g| -g).collect();
-        if self.solver.solve_in_place(&mut step).is_err() {
+        if self.solver.solve_finite_in_place(&mut step).is_err() {
             return Ok(false);
         }
         let slope: f64 = step.iter().zip(&grad).map(|(s, g)| s * g).sum();
