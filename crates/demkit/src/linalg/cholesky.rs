@@ -8,9 +8,8 @@
 //! so neither a refactorization nor a solve allocates (the scratch grows once if a solve asks
 //! for more right-hand sides than any before it).
 //!
-//! The factorization runs single-threaded: on the mesh sizes demkit meets (10⁴–10⁶ unknowns,
-//! planar graphs with small supernodes) faer's multi-threaded kernels spent most of their time
-//! synchronizing (measured with `perf` on a 2-core machine); assembly is parallel instead.
+//! The factorization is supernodal and single-threaded (docs/deviations.md, sparse
+//! factorization).
 
 use super::{ElementPattern, StiffnessPattern};
 use crate::{Error, Result};
@@ -53,10 +52,8 @@ impl std::fmt::Debug for SparseCholesky {
     }
 }
 
-/// The symbolic analysis' parameters: always the supernodal factorization. faer's default
-/// heuristic picks the simplicial one for the planar mesh matrices demkit factors, which
-/// measured 1.1–1.6× slower here (human_face: DEM 4.1 s → 3.7 s; DEQ with 10 Newton
-/// iterations on a face with two holes 6.9 s → 4.4 s).
+/// The symbolic analysis' parameters: always the supernodal factorization, where faer's
+/// default heuristic would pick the simplicial one (docs/deviations.md, sparse factorization).
 fn supernodal_params() -> CholeskySymbolicParams<'static> {
     CholeskySymbolicParams {
         supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,

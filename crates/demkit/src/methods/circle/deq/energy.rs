@@ -149,10 +149,8 @@ pub(crate) fn derivatives(
 /// A face energy `E(p, q)` of `p = |f_z|²`, `q = |f_z̄|²`, given by its value and derivatives
 /// `[E, E_p, E_q, E_pp, E_pq, E_qq]` at the face's `(f_z, f_z̄)`, carried to the image
 /// coordinates: the value, the gradient and the Hessian with each of its four eigenvalues
-/// (two turning directions, a 2 × 2 radial block) replaced by its absolute value. The
-/// absolute value rather than the clip at 0 keeps curvature where the energy is concave
-/// (an expanded face's density misfit), which Newton's step would otherwise overshoot into a
-/// collapse (measured on the hand with one hole: 68 → 50 iterations on the fine surface).
+/// (two turning directions, a 2 × 2 radial block) replaced by its absolute value
+/// (docs/deviations.md, DEQ: why not clipped at 0).
 pub(crate) fn lift(face: &Face, fz: C64, fzb: C64, d: [f64; 6]) -> (f64, [f64; 6], [[f64; 6]; 6]) {
     let [e, gp, gq, gpp, gpq, gqq] = d;
     let (p, q) = (fz.norm_sqr(), fzb.norm_sqr());

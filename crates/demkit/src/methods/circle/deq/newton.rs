@@ -30,9 +30,7 @@ use rayon::prelude::*;
 const MIN_DAMPING: f64 = 1e-8;
 const MAX_DAMPING: f64 = 1e4;
 
-/// How many chord steps may follow a factorization: a factorization is most of an iteration's
-/// cost, and after a full step the Hessian has changed little (measured: the face with two
-/// holes 10.0 s → 7.7 s, the same energy within 1%).
+/// How many chord steps may follow a factorization (docs/deviations.md, DEQ: chord steps).
 const REUSE: usize = 2;
 
 /// The energy falling by less than the tolerance (relative) over this many steps is a
