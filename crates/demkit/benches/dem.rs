@@ -1,32 +1,9 @@
-//! Benchmarks of the operators and of DEM on generated meshes (`cargo bench`).
+//! Benchmarks of DEM on generated meshes (`cargo bench -p demkit --bench dem`).
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use demkit::fem::cotangent_weights;
 use demkit::generate::{peaks, square_grid};
-use demkit::linalg::{SparseCholesky, StiffnessPattern};
 use demkit::methods::dem;
 use demkit::population::{PopulationSpec, face_populations};
-use std::hint::black_box;
-
-fn operators(c: &mut Criterion) {
-    let grid = square_grid(299, 299, 1.0, 1.0).unwrap(); // 90k vertices, 179k faces
-    let n = grid.n_vertices();
-    let pattern = StiffnessPattern::new(n, &grid.faces, None);
-    let mass = vec![1e-5; n];
-    let mut values = vec![0.0; pattern.nnz()];
-    c.bench_function("cotangent weights 179k faces", |b| {
-        b.iter(|| black_box(cotangent_weights(&grid.positions, &grid.faces)))
-    });
-    let w = cotangent_weights(&grid.positions, &grid.faces);
-    c.bench_function("assemble A + L 90k vertices", |b| {
-        b.iter(|| pattern.assemble(black_box(&w), &mass, &mut values))
-    });
-    let mut chol = SparseCholesky::for_stiffness(&pattern).unwrap();
-    pattern.assemble(&w, &mass, &mut values);
-    c.bench_function("numeric Cholesky 90k vertices", |b| {
-        b.iter(|| chol.factor(black_box(&values)).unwrap())
-    });
-}
 
 fn dem_runs(c: &mut Criterion) {
     let mut g = c.benchmark_group("dem");
@@ -48,5 +25,5 @@ fn dem_runs(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, operators, dem_runs);
+criterion_group!(benches, dem_runs);
 criterion_main!(benches);

@@ -49,19 +49,28 @@ mod api;
 pub mod apps;
 pub mod error;
 pub mod expr;
+#[cfg(feature = "internals")]
 pub mod fem;
+#[cfg(not(feature = "internals"))]
+pub(crate) mod fem;
 pub mod generate;
 #[cfg(test)]
 mod generate_fixtures;
 pub mod geometry;
 pub mod init;
 pub mod io;
+#[cfg(feature = "internals")]
 pub mod linalg;
+#[cfg(not(feature = "internals"))]
+pub(crate) mod linalg;
 pub mod mesh;
 pub mod methods;
 pub mod metrics;
 pub mod population;
+#[cfg(feature = "internals")]
 pub mod qc;
+#[cfg(not(feature = "internals"))]
+pub(crate) mod qc;
 pub mod shape;
 mod surface;
 

@@ -190,11 +190,6 @@ impl SparseCholesky {
         Self::new(pattern.n_unknowns(), pattern.col_ptr(), pattern.row_idx())
     }
 
-    /// Number of unknowns.
-    pub fn n_unknowns(&self) -> usize {
-        self.n
-    }
-
     /// Numeric factorization of the matrix with `values` on the pattern given to
     /// [`new`](Self::new). Fails if the values are not finite or the matrix is not positive
     /// definite; solves then fail until a factorization succeeds.

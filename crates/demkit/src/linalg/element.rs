@@ -169,6 +169,7 @@ impl ElementPattern {
     }
 
     /// `y = K x` with the values from [`assemble`](Self::assemble) (both triangles).
+    #[cfg(test)]
     pub fn mul(&self, values: &[f64], x: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; self.n];
         for (col, range) in self.col_ptr.windows(2).enumerate() {

@@ -204,6 +204,7 @@ impl StiffnessPattern {
 
     /// Matrix-vector product `y = M x` with the values from [`assemble`](Self::assemble)
     /// (symmetric: the stored lower triangle is used both ways). Indexed by unknown.
+    #[cfg(test)]
     pub fn mul(&self, values: &[f64], x: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; self.n_unknowns];
         for col in 0..self.n_unknowns {

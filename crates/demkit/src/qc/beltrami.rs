@@ -104,57 +104,6 @@ pub fn truncate(mu: Complex64, delta: f64) -> Complex64 {
     }
 }
 
-/// The Beltrami coefficient of the affine map sending the planar triangle `s` to the planar
-/// triangle `t`, with its derivatives with respect to the image corners (the hole terms of the
-/// DEQ paper's geometry modification, (5.19)–(5.26) and Appendix B).
-///
-/// Appendix B writes ν through the partial derivatives a, b, c, d (B.2)–(B.11), where the
-/// printed (B.11) is garbled (stray squares). We use the equivalent closed form instead: with
-/// the source corners q_k as complex numbers, `d_k = q_{k+2} − q_{k+1}` and the image corners
-/// `w_k`, the affine map `f = a z + b z̄ + c` has `f_z̄ = i N / 4A` and `f_z = −i D / 4A` with
-/// `N = Σ d_k w_k`, `D = Σ d̄_k w_k`, so `ν = −N / D`. ν is holomorphic in every `w_k`:
-/// `∂ν/∂w_k = −(d_k + ν d̄_k) / D` and `∂ν/∂w̄_k = 0`. A degenerate source or a collapsed image
-/// (`D = 0`) gives ν = 0 with zero derivatives.
-pub fn triangle_beltrami_derivatives(
-    s: [[f64; 2]; 3],
-    t: [[f64; 2]; 3],
-) -> (Complex64, [Complex64; 3]) {
-    let q = s.map(|p| Complex64::new(p[0], p[1]));
-    let w = t.map(|p| Complex64::new(p[0], p[1]));
-    let d: [Complex64; 3] = std::array::from_fn(|k| q[(k + 2) % 3] - q[(k + 1) % 3]);
-    let n: Complex64 = (0..3).map(|k| d[k] * w[k]).sum();
-    let den: Complex64 = (0..3).map(|k| d[k].conj() * w[k]).sum();
-    let zero = Complex64::new(0.0, 0.0);
-    if den.norm_sqr() == 0.0 || !den.is_finite() {
-        return (zero, [zero; 3]);
-    }
-    let nu = -n / den;
-    (
-        nu,
-        std::array::from_fn(|k| -(d[k] + nu * d[k].conj()) / den),
-    )
-}
-
-/// The cut-off 𝕀 of the DEQ paper (5.43), applied until it holds: `ν ← (1 − δ) ν` while
-/// `|ν| ≥ 1`, so the result has |ν| < 1 and the argument of ν. Non-finite ν (a collapsed
-/// image) becomes 0.
-pub fn cut_off(nu: Complex64, delta: f64) -> Complex64 {
-    if !nu.is_finite() {
-        return Complex64::new(0.0, 0.0);
-    }
-    let r = nu.norm();
-    if r < 1.0 {
-        return nu;
-    }
-    // The smallest k with (1 − δ)^k r < 1, with one more factor when rounding lands on 1.
-    let k = (r.ln() / -(1.0 - delta).ln()).floor() + 1.0;
-    let mut out = nu * (1.0 - delta).powf(k);
-    while out.norm() >= 1.0 {
-        out *= 1.0 - delta;
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -207,43 +156,5 @@ mod tests {
         assert!((truncate(m, 0.1) - Complex64::new(0.0, 0.9)).norm() < 1e-15);
         let s = Complex64::new(0.5, 0.0);
         assert_eq!(truncate(s, 0.1), s);
-    }
-
-    #[test]
-    fn closed_form_matches_partial_derivatives_and_its_derivative_is_exact() {
-        let t = [[0.3, -0.1], [1.4, 0.2], [0.1, 1.1]];
-        let (nu, dnu) = triangle_beltrami_derivatives(S, t);
-        let reference = triangle_beltrami(S, t);
-        assert!((nu - reference).norm() < 1e-12, "{nu} vs {reference}");
-        // Finite differences along a real and an imaginary move of each corner.
-        let h = 1e-6;
-        for k in 0..3 {
-            for dir in [Complex64::new(1.0, 0.0), Complex64::new(0.0, 1.0)] {
-                let mut tp = t;
-                tp[k][0] += h * dir.re;
-                tp[k][1] += h * dir.im;
-                let mut tm = t;
-                tm[k][0] -= h * dir.re;
-                tm[k][1] -= h * dir.im;
-                let fd = (triangle_beltrami(S, tp) - triangle_beltrami(S, tm)) / (2.0 * h);
-                let exact = dnu[k] * dir;
-                assert!((fd - exact).norm() < 1e-6, "corner {k}: {fd} vs {exact}");
-            }
-        }
-    }
-
-    #[test]
-    fn cut_off_scales_by_powers_of_one_minus_delta() {
-        let z = Complex64::new(0.3, 0.4);
-        assert_eq!(cut_off(z, 0.1), z);
-        // |ν| = 1.5: 0.9⁴ · 1.5 = 0.984 < 1 ≤ 0.9³ · 1.5 = 1.09.
-        let big = Complex64::new(0.9, 1.2);
-        let c = cut_off(big, 0.1);
-        assert!((c - big * 0.9f64.powi(4)).norm() < 1e-12);
-        assert_eq!(
-            cut_off(Complex64::new(1.0, 0.0), 0.1),
-            Complex64::new(0.9, 0.0)
-        );
-        assert_eq!(cut_off(Complex64::new(f64::INFINITY, 0.0), 0.1).norm(), 0.0);
     }
 }

@@ -1,13 +1,13 @@
 //! Quasi-conformal tools: the Beltrami coefficient of a piecewise-linear map, its truncation
-//! (SDEM paper (3.19)) and cut-off (DEQ paper (5.43)), and the linear Beltrami solver LBS (DEQ paper §3.2, (3.6)–(3.11)).
+//! (SDEM paper (3.19)), and the linear Beltrami solver LBS (DEQ paper §3.2, (3.6)–(3.11)).
 
 mod beltrami;
 mod lbs;
 mod periodic_lbs;
 
 pub use beltrami::{
-    beltrami_coefficient, beltrami_coefficient_surface, beltrami_coefficient_surfaces, cut_off,
-    triangle_beltrami, triangle_beltrami_derivatives, truncate,
+    beltrami_coefficient, beltrami_coefficient_surface, beltrami_coefficient_surfaces,
+    triangle_beltrami, truncate,
 };
 pub use lbs::{LinearBeltramiSolver, generalized_laplacian_weights, surface_laplacian_weights};
 pub use periodic_lbs::PeriodicBeltramiSolver;
