@@ -35,6 +35,7 @@
 //!   all on one iteration (`methods::common`);
 //! - [`metrics`]: the report metrics shared by every method;
 //! - [`population`]: populations from names, files and expressions;
+//! - [`report`]: the JSON report of a map ([`Map::report`]);
 //! - [`generate`]: synthetic meshes for examples and tests.
 
 // `!(x > 0.0)` is used on purpose: it is true for NaN, which must count as a failure.
@@ -57,6 +58,7 @@ pub mod methods;
 pub mod metrics;
 pub mod population;
 pub mod qc;
+pub mod report;
 pub mod shape;
 mod surface;
 #[cfg(test)]
