@@ -127,7 +127,7 @@ def _mesh_args(vertices: Any, faces: Any) -> Tuple[Any, Any]:
 def _as_vertices(vertices: Any, name: str = "vertices") -> np.ndarray:
     """An (n, 3) C-contiguous float64 array from an (n, 3) or (n, 2) float array."""
     a = np.asarray(vertices)
-    if a.dtype.kind not in "fiu" or a.dtype == np.float16:
+    if a.dtype.kind != "f" or a.dtype.itemsize not in (4, 8):
         raise InputError(f"{name} must be a float array (float32 or float64), got dtype {a.dtype}")
     if a.ndim != 2 or a.shape[1] not in (2, 3):
         raise InputError(f"{name} must be an (n, 3) or (n, 2) array, got shape {a.shape}")
