@@ -5,6 +5,9 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 
+/// A mesh as numpy arrays: (n, 3) float64 vertices and (m, 3) int64 faces.
+pub type MeshArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>);
+
 /// Vertex positions from an (n, 3) float64 array.
 pub fn positions(a: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 3]>> {
     let v = a.as_array();

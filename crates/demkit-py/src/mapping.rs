@@ -1,6 +1,6 @@
 //! `map` and `remesh`: a density-equalizing map of numpy arrays, computed with the GIL released.
 
-use crate::arrays::{faces, faces_array, points_array, positions, values};
+use crate::arrays::{MeshArrays, faces, faces_array, points_array, positions, values};
 use crate::{guarded, input_error, to_py};
 use demkit::geometry::torus::Torus;
 use demkit::methods::Progress;
@@ -247,10 +247,7 @@ pub fn remesh<'py>(
     request: Request<'py>,
     n: usize,
     progress: Option<Py<PyAny>>,
-) -> PyResult<(
-    Bound<'py, numpy::PyArray2<f64>>,
-    Bound<'py, numpy::PyArray2<i64>>,
-)> {
+) -> PyResult<MeshArrays<'py>> {
     use demkit::apps::remesh::{DEQ_ALPHA, Target, check_vertex_count, min_vertices, remesh};
     let mut prepared = prepare(&request)?;
     let o = &mut prepared.options;

@@ -1,17 +1,15 @@
 //! Mesh files, generated meshes, metrics of a given map and cartograms.
 
-use crate::arrays::{faces, faces_array, points_array, positions, values};
+use crate::arrays::{MeshArrays, faces, faces_array, points_array, positions, values};
 use crate::{guarded, input_error, to_py};
 use carto::{Config, Positions, geojson, planar, values::ValueSource};
 use demkit::TriMesh;
 use demkit::apps::cartogram as carto;
 use demkit::generate as g;
-use numpy::{PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
-
-type MeshArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>);
 
 fn mesh_arrays<'py>(py: Python<'py>, mesh: &TriMesh) -> MeshArrays<'py> {
     (
