@@ -24,6 +24,7 @@ def test_wrong_shapes(disk):
     raises(r"faces must be an \(m, 3\) integer array", v, f.ravel())
     raises(r"landmarks must be", v, f, landmarks=np.zeros((2, 5)))
     raises(r"torus must be \(R, r\)", v, f, torus=3)
+    raises(r"torus must be \(R, r\)", v, f, torus=(3, 1, 1))
 
 
 def test_wrong_dtypes(disk):

@@ -212,14 +212,15 @@ def _progress(progress: Any, label: str) -> Tuple[Optional[Callable], Callable[[
 
 
 def _request(vertices, faces, population, method, landmarks, torus, shape, alpha, beta, gamma, dt, epsilon, max_iter, fixed_holes) -> dict:
+    """The arguments of map() checked and converted into the native module's request dict."""
     v, f = _mesh_args(vertices, faces)
     pop, values = _population(population)
     idx, targets = _landmarks(landmarks)
     if torus is not None:
         try:
-            torus = (float(torus[0]), float(torus[1]))
-            if len(tuple(torus)) != 2:
+            if len(torus) != 2:
                 raise ValueError
+            torus = (float(torus[0]), float(torus[1]))
         except (TypeError, ValueError, IndexError):
             raise InputError(f"torus must be (R, r) with numbers R > r > 0, got {torus!r}") from None
     if max_iter is not None and (not isinstance(max_iter, (int, np.integer)) or max_iter < 0):
