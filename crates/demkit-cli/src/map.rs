@@ -3,7 +3,6 @@
 use crate::Failure;
 use crate::args::{MapArgs, MethodArgs};
 use crate::progress::Bar;
-use crate::report::{InputSummary, Report};
 use demkit::geometry::torus::Torus;
 use demkit::population::{PopulationSpec, face_populations_at_scale};
 use demkit::shape::Shape;
@@ -145,7 +144,6 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         ]),
     )?;
     let surface = read_valid_mesh(&a.mesh, a.quiet)?;
-    let input = surface.mesh();
     let topo = surface.topology();
     let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
     warn_unused(&a.m, method, a.quiet);
@@ -178,13 +176,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         crate::render::render_histograms(png, mesh, &c, a)?;
     }
     if let Some(path) = &a.report {
-        let input = InputSummary {
-            vertices: input.n_vertices(),
-            faces: input.n_faces(),
-            boundaries: topo.boundary_loops.len(),
-            genus: topo.genus,
-        };
-        let report = Report::new(result, input, metrics, t0.elapsed().as_secs_f64());
+        let report = c.map.report(&surface, t0.elapsed().as_secs_f64());
         crate::report::write_json(path, &report)?;
     }
     if !a.quiet {

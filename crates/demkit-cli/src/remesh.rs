@@ -6,12 +6,11 @@
 use crate::Failure;
 use crate::args::RemeshArgs;
 use crate::map::{check_output_extension, compute, read_valid_mesh, resolve_method, warn_unused};
-use crate::report::InputSummary;
 use demkit::Method;
-use demkit::TriMesh;
 use demkit::apps::remesh::quality::{max_distance_to_surface, quality};
 use demkit::apps::remesh::{Target, check_vertex_count, min_vertices, remesh};
 use demkit::mesh::topology::topology;
+use demkit::report::InputSummary;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -141,7 +140,7 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
             method: c.method.name().to_string(),
             population: a.m.population.clone(),
             converged: result.converged,
-            input: summary(mesh),
+            input: InputSummary::of_surface(&surface),
             output: InputSummary {
                 vertices: out.n_vertices(),
                 faces: out.n_faces(),
@@ -193,15 +192,4 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
         );
     }
     Ok(if result.converged { 0 } else { 3 })
-}
-
-/// The input's summary for the report.
-fn summary(mesh: &TriMesh) -> InputSummary {
-    let t = topology(mesh);
-    InputSummary {
-        vertices: mesh.n_vertices(),
-        faces: mesh.n_faces(),
-        boundaries: t.boundary_loops.len(),
-        genus: t.genus,
-    }
 }

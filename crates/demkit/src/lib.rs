@@ -28,8 +28,8 @@
 //! - meshes and files: [`TriMesh`], [`mesh`] (topology, validation, welding), [`io`] (mesh,
 //!   population and landmark files), [`population`] and [`expr`] (populations from names, files
 //!   and expressions), [`generate`] (synthetic meshes);
-//! - results: [`metrics`] (the report's figures, one definition each), [`shape`] (the target
-//!   shapes of DEM onto a shape);
+//! - results: [`metrics`] (the report's figures, one definition each), [`report`] (the JSON
+//!   report of a map, [`Map::report`]), [`shape`] (the target shapes of DEM onto a shape);
 //! - applications: [`apps::remesh`], [`apps::cartogram`], [`apps::register`],
 //!   [`apps::texture`];
 //! - for those who compose the steps themselves: [`methods`] (each method's `Config` and `run`,
@@ -38,7 +38,7 @@
 //!   conformal maps, the flat torus), [`geometry`] (areas, frames, the torus, point location).
 //!
 //! Internal: the finite-element operators (cotangent Laplacian, lumped mass, face gradient,
-//! face→vertex averaging), the sparse solvers (assembly over a fixed pattern, cached Cholesky,
+//! face→vertex averaging), the sparse solvers (assembly over a fixed pattern, one cached Cholesky,
 //! LU) and the quasi-conformal tools (Beltrami coefficients, the linear Beltrami solver). The
 //! benchmarks reach them through the `internals` feature, which is not a stable API.
 
@@ -71,6 +71,7 @@ pub mod population;
 pub mod qc;
 #[cfg(not(feature = "internals"))]
 pub(crate) mod qc;
+pub mod report;
 pub mod shape;
 mod surface;
 

@@ -37,11 +37,13 @@ fn objective(y: &[[f64; 3]], faces: &[[u32; 3]], log_target: &[f64]) -> f64 {
         .map(|f| triangle_area(y[f[0] as usize], y[f[1] as usize], y[f[2] as usize]))
         .collect();
     let log_sum = areas.iter().sum::<f64>().ln();
-    let s: f64 = areas
+    // Terms computed in parallel, summed in face order: the same result whatever the threads.
+    let terms: Vec<f64> = areas
         .par_iter()
         .zip(log_target.par_iter())
         .map(|(a, t)| (a.ln() - log_sum - t).abs())
-        .sum();
+        .collect();
+    let s: f64 = terms.iter().sum();
     let j = s / faces.len() as f64;
     if j.is_nan() { f64::INFINITY } else { j }
 }
@@ -113,7 +115,9 @@ fn objective_and_gradient(
             }
             g
         })
-        .reduce(|| [0.0; 3], |u, v| [u[0] + v[0], u[1] + v[1], u[2] + v[2]]);
+        .collect::<Vec<[f64; 3]>>()
+        .iter()
+        .fold([0.0; 3], |u, v| [u[0] + v[0], u[1] + v[1], u[2] + v[2]]);
     (j, grad)
 }
 

@@ -161,8 +161,19 @@ pub fn load(
 ) -> crate::Result<(::geojson::FeatureCollection, RegionSet)> {
     let label = crate::io::path_label(path);
     let bytes = crate::io::read_file(path)?;
-    let text = String::from_utf8_lossy(&bytes);
-    let (fc, mut shapes) = geojson::parse_shapes(&text, &label)?;
+    load_text(&String::from_utf8_lossy(&bytes), &label, source, positions)
+}
+
+/// [`load`] of GeoJSON `text` already in memory; `label` names it in messages (a file name,
+/// or e.g. `"<geojson>"`).
+pub fn load_text(
+    text: &str,
+    label: &str,
+    source: &values::ValueSource,
+    positions: Positions,
+) -> crate::Result<(::geojson::FeatureCollection, RegionSet)> {
+    let label = label.to_string();
+    let (fc, mut shapes) = geojson::parse_shapes(text, &label)?;
     let (read, mut warnings) = values::read(&fc, &shapes, source, &label)?;
     if positions != Positions::Plane {
         for s in &shapes {

@@ -134,6 +134,9 @@ fn mean_energy(p: &Problem, faces: &[Face], target: &[f64], x: &[[f64; 3]]) -> O
             let w = f.map(|v| [x[v as usize][0], x[v as usize][1]]);
             energy::value(face, w, k, p.alpha, p.misfit)
         })
+        // Summed in face order: the same result whatever the threads.
+        .collect::<Vec<Option<f64>>>()
+        .into_iter()
         .sum::<Option<f64>>()
         .map(|e| e / p.faces.len().max(1) as f64)
 }

@@ -253,6 +253,9 @@ impl<'a> Region<'a> {
                 let (fz, fzb) = face.derivatives(self.image(x, j));
                 w * g(fz.norm_sqr() / k, fzb.norm_sqr() / k, eps)[0]
             })
+            // Summed in order: the same result whatever the threads.
+            .collect::<Vec<f64>>()
+            .iter()
             .sum::<f64>()
             / self.total_weight
     }
