@@ -13,6 +13,7 @@
 use super::newton::Outcome;
 use super::rounding::move_vertices;
 use crate::Result;
+use crate::methods::iteration::{Flow, Keep, Measured, Moved, Rules, Step, iterate};
 
 /// At most this many legs; a leg the map cannot take is halved, down to [`MIN_LEG_SCALE`] of
 /// its length.
@@ -35,8 +36,10 @@ const TO_LANDMARKS: f64 = 0.45;
 /// fillings, which stay; the region's vertices are the first `n_region`) to their `targets`
 /// leg by leg, calling `polish` (a few Newton steps with the landmarks pinned) after each.
 /// Stops when all are there, when a leg cannot be taken even shortened, or when `polish` finds
-/// nothing to improve (the last good map is kept). Returns the polishing's iterations and
-/// history; the landmarks not at their target are the ones missed.
+/// nothing to improve (the last good map is kept), or after [`MAX_LEGS`] legs. The legs run on
+/// the density-equalizing iteration ([`iterate`]) as the flow [`Legs`], one leg an iteration.
+/// Returns the polishing's iterations and history; the landmarks not at their target are the
+/// ones missed.
 pub(crate) fn lead(
     faces: &[[u32; 3]],
     x: &mut [[f64; 3]],
@@ -44,48 +47,134 @@ pub(crate) fn lead(
     n_region: usize,
     landmarks: &[u32],
     targets: &[[f64; 2]],
-    mut polish: impl FnMut(&mut [[f64; 3]]) -> Result<Outcome>,
+    polish: impl FnMut(&mut [[f64; 3]]) -> Result<Outcome>,
 ) -> Result<Outcome> {
-    let movable: Vec<bool> = (0..x.len()).map(|v| v < n_region && !held[v]).collect();
-    let mut done = Outcome {
-        iterations: 0,
-        history: Vec::new(),
-        converged: false,
+    let mut flow = Legs {
+        faces,
+        held,
+        movable: (0..x.len()).map(|v| v < n_region && !held[v]).collect(),
+        landmarks,
+        targets,
+        polish,
+        scale: 1.0,
+        led: false,
+        stopped: false,
+        done: Outcome {
+            iterations: 0,
+            history: Vec::new(),
+            converged: false,
+        },
     };
-    let mut before = x.to_vec();
-    let mut scale = 1.0;
-    for _ in 0..MAX_LEGS {
-        let clearances = clearances(x, &movable, landmarks);
-        let legs: Vec<[f64; 2]> = landmarks
+    let rules = Rules {
+        epsilon: ALL_THERE,
+        max_iter: MAX_LEGS,
+        step: Step::Own,
+        stationary: None,
+        keep: Keep::Last,
+    };
+    let out = iterate(&mut flow, x.to_vec(), &rules, &mut |_| {})?;
+    x.copy_from_slice(&out.map);
+    Ok(flow.done)
+}
+
+/// Fewer landmarks than this away from their targets: every one is there (the stopping
+/// quantity of [`Legs`] counts them).
+const ALL_THERE: f64 = 1.0;
+
+/// LDEQ's legs as a flow of the density-equalizing iteration ([`iterate`], `Step::Own`,
+/// `Keep::Last`): the map is the positions; the stopping quantity (and merit) is the number of
+/// landmarks not yet at their targets, below [`ALL_THERE`] when all are; one advance is one
+/// leg, the landmarks' disks moved ([`move_vertices`]) and the map polished with the
+/// landmarks pinned. A leg that cannot be taken halves the next one; when it would be shorter
+/// than [`MIN_LEG_SCALE`], or the polishing fails (the map before the leg is then restored),
+/// the flow cannot move the map any further and says so through its stopping quantity, which
+/// ends the run. The polishing's iterations and histories are summed in `done`.
+struct Legs<'a, P> {
+    faces: &'a [[u32; 3]],
+    held: &'a [bool],
+    /// The vertices a landmark's disk may carry (the region's, off the loops).
+    movable: Vec<bool>,
+    landmarks: &'a [u32],
+    targets: &'a [[f64; 2]],
+    /// A few Newton steps with the landmarks pinned.
+    polish: P,
+    /// The next leg's length, as a share of the longest one.
+    scale: f64,
+    /// Whether a leg has been taken: the map as given has not been polished with the
+    /// landmarks pinned, so it is not yet led even when they all sit at their targets.
+    led: bool,
+    /// Whether the last advance could not move the map (no leg left, or the polishing failed).
+    stopped: bool,
+    /// The polishing's iterations and histories so far.
+    done: Outcome,
+}
+
+impl<P: FnMut(&mut [[f64; 3]]) -> Result<Outcome>> Flow for Legs<'_, P> {
+    type Map = Vec<[f64; 3]>;
+    type Data = ();
+
+    /// The number of landmarks of `x` not at their targets; 0 once the flow has stopped
+    /// moving, every landmark before the first leg.
+    fn measure(&mut self, x: &Self::Map) -> Result<Measured<()>> {
+        let away = if self.stopped {
+            0
+        } else if !self.led {
+            self.landmarks.len().max(1)
+        } else {
+            self.landmarks
+                .iter()
+                .zip(self.targets)
+                .filter(|&(&v, q)| x[v as usize][0] != q[0] || x[v as usize][1] != q[1])
+                .count()
+        };
+        Ok(Measured {
+            error: away as f64,
+            merit: away as f64,
+            data: (),
+        })
+    }
+
+    /// One leg from `x`: `fraction` is the leg's share of the longest one when it was taken,
+    /// 0 when it was not (then the map was only polished, or the flow stopped).
+    fn advance(&mut self, x: &Self::Map, _m: &Measured<()>, _h: f64) -> Result<Moved<Self::Map>> {
+        self.led = true;
+        let mut moved = x.clone();
+        let clearances = clearances(x, &self.movable, self.landmarks);
+        let legs: Vec<[f64; 2]> = self
+            .landmarks
             .iter()
-            .zip(targets)
+            .zip(self.targets)
             .zip(&clearances)
-            .map(|((&v, q), &rho)| next_leg(x[v as usize], *q, scale * rho))
+            .map(|((&v, q), &rho)| next_leg(x[v as usize], *q, self.scale * rho))
             .collect();
-        let movers = disk_movers(x, &movable, landmarks, &clearances, &legs);
-        before.copy_from_slice(x);
-        if !move_vertices(faces, x, held, &movers)? {
-            scale *= 0.5;
-            if scale < MIN_LEG_SCALE {
-                break;
+        let movers = disk_movers(x, &self.movable, self.landmarks, &clearances, &legs);
+        let mut fraction = self.scale;
+        if !move_vertices(self.faces, &mut moved, self.held, &movers)? {
+            fraction = 0.0;
+            self.scale *= 0.5;
+            if self.scale < MIN_LEG_SCALE {
+                self.stopped = true;
+                return Ok(Moved {
+                    map: moved,
+                    fraction: 0.0,
+                });
             }
         }
         // Where the way is blocked a leg can leave the map with nothing left to improve.
-        let Ok(step) = polish(x) else {
-            x.copy_from_slice(&before);
-            break;
+        let Ok(step) = (self.polish)(&mut moved) else {
+            self.stopped = true;
+            return Ok(Moved {
+                map: x.clone(),
+                fraction: 0.0,
+            });
         };
-        done.iterations += step.iterations;
-        done.history.extend(step.history);
-        let there = landmarks
-            .iter()
-            .zip(targets)
-            .all(|(&v, q)| x[v as usize][0] == q[0] && x[v as usize][1] == q[1]);
-        if there {
-            break;
-        }
+        self.done.iterations += step.iterations;
+        self.done.history.extend(step.history);
+        Ok(Moved {
+            map: moved,
+            fraction,
+        })
     }
-    Ok(done)
 }
 
 /// Each landmark's clearance in the map `x`: a share of the distance to the nearest vertex

@@ -15,6 +15,7 @@ use crate::Result;
 use crate::TriMesh;
 use crate::geometry::face_areas;
 use crate::mesh::topology::{ring_distances, vertex_neighbours};
+use crate::methods::iteration::{Flow, Keep, Measured, Moved, Rules, Step, iterate};
 use crate::methods::{Progress, ProgressFn};
 
 /// A face whose relative density `ρ̃ = (P/ΣP) / (A/ΣA)` lies outside `[1/FAR_OFF, FAR_OFF]` is
@@ -31,7 +32,9 @@ const ITERATIONS: usize = 20;
 
 /// Minimises the DEQ energy (weight `alpha`, Newton tolerance `tolerance`) of the circle
 /// domain map `x` of `mesh` around its far-off faces, reporting every Newton iteration to
-/// `progress`. Returns the Newton iterations done and their history.
+/// `progress`. The rounds run on the density-equalizing iteration ([`iterate`]) as the flow
+/// [`Rounds`], at most [`ROUNDS`] of them. Returns the Newton iterations done and their
+/// history.
 pub(crate) fn repair(
     mesh: &TriMesh,
     population: &[f64],
@@ -42,36 +45,102 @@ pub(crate) fn repair(
     progress: ProgressFn,
 ) -> Result<Outcome> {
     let n = mesh.n_vertices();
-    let neighbours = vertex_neighbours(n, &mesh.faces);
-    let holes: Vec<Vec<u32>> = layout.holes.iter().map(|h| h.boundary.clone()).collect();
-    let total_population: f64 = population.iter().sum();
-    let mut done = Outcome {
-        iterations: 0,
-        history: Vec::new(),
-        converged: true,
+    let mut flow = Rounds {
+        mesh,
+        population,
+        outer: &layout.outer,
+        neighbours: vertex_neighbours(n, &mesh.faces),
+        holes: layout.holes.iter().map(|h| h.boundary.clone()).collect(),
+        total_population: population.iter().sum(),
+        alpha,
+        tolerance,
+        progress,
+        done: Outcome {
+            iterations: 0,
+            history: Vec::new(),
+            converged: true,
+        },
     };
-    for _ in 0..ROUNDS {
-        let areas = face_areas(x, &mesh.faces);
+    let rules = Rules {
+        epsilon: NONE_FAR_OFF,
+        max_iter: ROUNDS,
+        step: Step::Own,
+        stationary: None,
+        keep: Keep::Last,
+    };
+    let out = iterate(&mut flow, x.to_vec(), &rules, &mut |_| {})?;
+    x.copy_from_slice(&out.map);
+    Ok(flow.done)
+}
+
+/// Fewer far-off faces than this: none (the stopping quantity of [`Rounds`] counts them).
+const NONE_FAR_OFF: f64 = 1.0;
+
+/// The local repair as a flow of the density-equalizing iteration ([`iterate`], `Step::Own`,
+/// `Keep::Last`): the map is the positions; the stopping quantity (and merit) is the number
+/// of far-off faces, below [`NONE_FAR_OFF`] when there are none; one advance is one round,
+/// the energy minimised by Newton's method ([`newton::minimize`]) on the faces within
+/// [`RINGS`] rings of the far-off ones, the region's outer vertices held. The rounds' Newton
+/// iterations and histories are summed in `done`, and every Newton iteration is reported to
+/// `progress`, numbered after the rounds' so far.
+struct Rounds<'a, 'p> {
+    mesh: &'a TriMesh,
+    population: &'a [f64],
+    outer: &'a [u32],
+    neighbours: Vec<Vec<u32>>,
+    holes: Vec<Vec<u32>>,
+    total_population: f64,
+    alpha: f64,
+    tolerance: f64,
+    progress: ProgressFn<'p>,
+    /// The rounds' Newton iterations and histories so far.
+    done: Outcome,
+}
+
+impl Flow for Rounds<'_, '_> {
+    type Map = Vec<[f64; 3]>;
+    /// The corners of the far-off faces.
+    type Data = Vec<u32>;
+
+    /// The far-off faces of `x`: their number, and their corners.
+    fn measure(&mut self, x: &Self::Map) -> Result<Measured<Vec<u32>>> {
+        let areas = face_areas(x, &self.mesh.faces);
         let total_area: f64 = areas.iter().sum();
-        let far_off: Vec<u32> = mesh
+        let total_population = self.total_population;
+        let far: Vec<&[u32; 3]> = self
+            .mesh
             .faces
             .iter()
-            .zip(areas.iter().zip(population))
+            .zip(areas.iter().zip(self.population))
             .filter(|(_, (a, p))| {
                 let rho = (*p / total_population) / (*a / total_area);
                 !(rho < FAR_OFF && rho > 1.0 / FAR_OFF)
             })
-            .flat_map(|(f, _)| *f)
+            .map(|(f, _)| f)
             .collect();
-        if far_off.is_empty() {
-            break;
-        }
-        let distance = ring_distances(&neighbours, far_off, RINGS);
+        Ok(Measured {
+            error: far.len() as f64,
+            merit: far.len() as f64,
+            data: far.into_iter().flatten().copied().collect(),
+        })
+    }
+
+    /// One round from `x`, whose far-off faces' corners are `m.data`; `fraction` 1 (the
+    /// minimisation keeps the map it reaches).
+    fn advance(
+        &mut self,
+        x: &Self::Map,
+        m: &Measured<Vec<u32>>,
+        _h: f64,
+    ) -> Result<Moved<Self::Map>> {
+        let mesh = self.mesh;
+        let n = mesh.n_vertices();
+        let distance = ring_distances(&self.neighbours, m.data.iter().copied(), RINGS);
         let inside = |v: u32| distance[v as usize] != usize::MAX;
         let (faces, region_population): (Vec<[u32; 3]>, Vec<f64>) = mesh
             .faces
             .iter()
-            .zip(population)
+            .zip(self.population)
             .filter(|(f, _)| f.iter().any(|&v| inside(v)))
             .map(|(f, p)| (*f, *p))
             .unzip();
@@ -87,26 +156,31 @@ pub(crate) fn repair(
             surface: &mesh.positions,
             faces: &faces,
             population: &region_population,
-            outer: &layout.outer,
-            holes: &holes,
+            outer: self.outer,
+            holes: &self.holes,
             pinned: &pinned,
             fixed_holes: true,
-            alpha,
+            alpha: self.alpha,
             misfit: Misfit::Square,
             max_iterations: ITERATIONS,
-            tolerance,
+            tolerance: self.tolerance,
         };
-        let done_before = done.history.len();
-        let outcome = newton::minimize(&problem, x, &mut |p: Progress| {
+        let done_before = self.done.history.len();
+        let progress = &mut *self.progress;
+        let mut moved = x.clone();
+        let outcome = newton::minimize(&problem, &mut moved, &mut |p: Progress| {
             progress(Progress {
                 iteration: done_before + p.iteration,
                 ..p
             })
         })?;
-        done.iterations += outcome.iterations;
-        done.history.extend(outcome.history);
+        self.done.iterations += outcome.iterations;
+        self.done.history.extend(outcome.history);
+        Ok(Moved {
+            map: moved,
+            fraction: 1.0,
+        })
     }
-    Ok(done)
 }
 
 #[cfg(test)]
