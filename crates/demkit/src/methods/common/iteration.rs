@@ -135,6 +135,27 @@ impl Rules {
     }
 }
 
+/// Runs a flow whose stopping quantity counts what is left to do (landmarks not yet at their
+/// targets, faces still far off) on the positions `x`, in place: it takes its own steps, stops
+/// when nothing is left (the count below 1) or after `max_iter` iterations, and keeps the last
+/// map. The flow keeps whatever it reports of its work.
+pub(crate) fn count_down<F: Flow<Map = Vec<[f64; 3]>>>(
+    flow: &mut F,
+    x: &mut [[f64; 3]],
+    max_iter: usize,
+) -> Result<()> {
+    let rules = Rules {
+        epsilon: 1.0,
+        max_iter,
+        step: Step::Own,
+        stationary: None,
+        keep: Keep::Last,
+    };
+    let out = iterate(flow, x.to_vec(), &rules, &mut |_| {})?;
+    x.copy_from_slice(&out.map);
+    Ok(())
+}
+
 /// When slow progress makes a run stationary.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Stationary {

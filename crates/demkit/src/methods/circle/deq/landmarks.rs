@@ -13,7 +13,7 @@
 use super::newton::Outcome;
 use super::rounding::move_vertices;
 use crate::Result;
-use crate::methods::iteration::{Flow, Keep, Measured, Moved, Rules, Step, iterate};
+use crate::methods::iteration::{Flow, Measured, Moved, count_down};
 
 /// At most this many legs; a leg the map cannot take is halved, down to [`MIN_LEG_SCALE`] of
 /// its length.
@@ -37,7 +37,7 @@ const TO_LANDMARKS: f64 = 0.45;
 /// leg by leg, calling `polish` (a few Newton steps with the landmarks pinned) after each.
 /// Stops when all are there, when a leg cannot be taken even shortened, or when `polish` finds
 /// nothing to improve (the last good map is kept), or after [`MAX_LEGS`] legs. The legs run on
-/// the density-equalizing iteration ([`iterate`]) as the flow [`Legs`], one leg an iteration.
+/// the density-equalizing iteration ([`count_down`]) as the flow [`Legs`], one leg an iteration.
 /// Returns the polishing's iterations and history; the landmarks not at their target are the
 /// ones missed.
 pub(crate) fn lead(
@@ -65,25 +65,13 @@ pub(crate) fn lead(
             converged: false,
         },
     };
-    let rules = Rules {
-        epsilon: ALL_THERE,
-        max_iter: MAX_LEGS,
-        step: Step::Own,
-        stationary: None,
-        keep: Keep::Last,
-    };
-    let out = iterate(&mut flow, x.to_vec(), &rules, &mut |_| {})?;
-    x.copy_from_slice(&out.map);
+    count_down(&mut flow, x, MAX_LEGS)?;
     Ok(flow.done)
 }
 
-/// Fewer landmarks than this away from their targets: every one is there (the stopping
-/// quantity of [`Legs`] counts them).
-const ALL_THERE: f64 = 1.0;
-
-/// LDEQ's legs as a flow of the density-equalizing iteration ([`iterate`], `Step::Own`,
+/// LDEQ's legs as a flow of the density-equalizing iteration ([`count_down`]: `Step::Own`,
 /// `Keep::Last`): the map is the positions; the stopping quantity (and merit) is the number of
-/// landmarks not yet at their targets, below [`ALL_THERE`] when all are; one advance is one
+/// landmarks not yet at their targets, below 1 when all are; one advance is one
 /// leg, the landmarks' disks moved ([`move_vertices`]) and the map polished with the
 /// landmarks pinned. A leg that cannot be taken halves the next one; when it would be shorter
 /// than [`MIN_LEG_SCALE`], or the polishing fails (the map before the leg is then restored),

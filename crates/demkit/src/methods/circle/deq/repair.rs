@@ -15,7 +15,7 @@ use crate::Result;
 use crate::TriMesh;
 use crate::geometry::face_areas;
 use crate::mesh::topology::{ring_distances, vertex_neighbours};
-use crate::methods::iteration::{Flow, Keep, Measured, Moved, Rules, Step, iterate};
+use crate::methods::iteration::{Flow, Measured, Moved, count_down};
 use crate::methods::{Progress, ProgressFn};
 
 /// A face whose relative density `ρ̃ = (P/ΣP) / (A/ΣA)` lies outside `[1/FAR_OFF, FAR_OFF]` is
@@ -32,7 +32,7 @@ const ITERATIONS: usize = 20;
 
 /// Minimises the DEQ energy (weight `alpha`, Newton tolerance `tolerance`) of the circle
 /// domain map `x` of `mesh` around its far-off faces, reporting every Newton iteration to
-/// `progress`. The rounds run on the density-equalizing iteration ([`iterate`]) as the flow
+/// `progress`. The rounds run on the density-equalizing iteration ([`count_down`]) as the flow
 /// [`Rounds`], at most [`ROUNDS`] of them. Returns the Newton iterations done and their
 /// history.
 pub(crate) fn repair(
@@ -61,24 +61,13 @@ pub(crate) fn repair(
             converged: true,
         },
     };
-    let rules = Rules {
-        epsilon: NONE_FAR_OFF,
-        max_iter: ROUNDS,
-        step: Step::Own,
-        stationary: None,
-        keep: Keep::Last,
-    };
-    let out = iterate(&mut flow, x.to_vec(), &rules, &mut |_| {})?;
-    x.copy_from_slice(&out.map);
+    count_down(&mut flow, x, ROUNDS)?;
     Ok(flow.done)
 }
 
-/// Fewer far-off faces than this: none (the stopping quantity of [`Rounds`] counts them).
-const NONE_FAR_OFF: f64 = 1.0;
-
-/// The local repair as a flow of the density-equalizing iteration ([`iterate`], `Step::Own`,
+/// The local repair as a flow of the density-equalizing iteration ([`count_down`]: `Step::Own`,
 /// `Keep::Last`): the map is the positions; the stopping quantity (and merit) is the number
-/// of far-off faces, below [`NONE_FAR_OFF`] when there are none; one advance is one round,
+/// of far-off faces, below 1 when there are none; one advance is one round,
 /// the energy minimised by Newton's method ([`newton::minimize`]) on the faces within
 /// [`RINGS`] rings of the far-off ones, the region's outer vertices held. The rounds' Newton
 /// iterations and histories are summed in `done`, and every Newton iteration is reported to
