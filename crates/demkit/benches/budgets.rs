@@ -6,12 +6,12 @@
 
 mod budget;
 
-use budget::cut::cut_holes;
+use budget::domains::{planar_domain, square_spiral};
 use budget::{case, ldeq_landmarks, population, run_deq, slow_group};
 use criterion::{Criterion, criterion_group, criterion_main};
 use demkit::TriMesh;
 use demkit::apps::cartogram::{self, Positions, planar, values::ValueSource};
-use demkit::generate::{annulus, disk_with_holes, rectangle_with_holes, square_grid};
+use demkit::generate::{annulus, disk_with_holes, rectangle_with_holes};
 use demkit::methods::ldeq;
 use std::path::PathBuf;
 
@@ -52,69 +52,6 @@ fn writing(c: &mut Criterion) {
         let _ = std::fs::remove_file(&path);
     }
     g.finish();
-}
-
-/// A planar domain as the DEQ tests make it: the `width × height` grid of `cells` squares per
-/// unit without the faces whose centroid `keep` rejects, with holes cut into it.
-fn planar_domain(
-    width: f64,
-    height: f64,
-    cells: usize,
-    keep: impl Fn([f64; 2]) -> bool,
-    holes: &[([f64; 3], f64)],
-) -> TriMesh {
-    let size = |l: f64| (cells as f64 * l).round() as usize;
-    let mut grid = square_grid(size(width), size(height), width, height).unwrap();
-    let positions = grid.positions.clone();
-    grid.faces.retain(|f| {
-        let c = f.iter().fold([0.0; 2], |s, &v| {
-            let p = positions[v as usize];
-            [s[0] + p[0] / 3.0, s[1] + p[1] / 3.0]
-        });
-        keep(c)
-    });
-    cut_holes(&grid, holes, true)
-}
-
-/// The square spiral corridor with four small holes of the DEQ tests.
-fn square_spiral() -> TriMesh {
-    let (n, step) = (96.0, 6.0);
-    let mut lengths = vec![n - step];
-    let mut a = n - 2.0 * step;
-    while a > step {
-        lengths.extend([a, a]);
-        a -= step;
-    }
-    let mut wall = vec![[step - 0.5, 0.5]];
-    for (turn, length) in lengths.iter().enumerate() {
-        let [x, y] = wall[wall.len() - 1];
-        let (dx, dy) = [(0.0, 1.0), (1.0, 0.0), (0.0, -1.0), (-1.0, 0.0)][turn % 4];
-        wall.push([x + dx * length, y + dy * length]);
-    }
-    let to_wall = |p: [f64; 2]| {
-        wall.windows(2)
-            .map(|s| demkit::geometry::segment::segment_distance(p, s[0], s[1]).0)
-            .fold(f64::INFINITY, f64::min)
-    };
-    let mut centres: Vec<f64> = Vec::new();
-    for i in 0..(n as usize) {
-        let x = n / 2.0 + i as f64 * 0.25;
-        if to_wall([x, n / 2.0]) >= 2.4 && centres.last().is_none_or(|&c| x - c >= step) {
-            centres.push(x);
-        }
-    }
-    let holes: Vec<([f64; 3], f64)> = centres
-        .iter()
-        .take(4)
-        .map(|&x| ([x / n, 0.5, 0.0], 1.0 / n))
-        .collect();
-    planar_domain(
-        1.0,
-        1.0,
-        n as usize,
-        |c| to_wall([c[0] * n, c[1] * n]) > 0.5,
-        &holes,
-    )
 }
 
 /// The four-quadrant annulus of the DEQ paper and its population.

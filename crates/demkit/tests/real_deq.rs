@@ -11,7 +11,7 @@
 //! 15 s, is a case of `benches/real_meshes.rs`.
 
 use demkit::TriMesh;
-use demkit::generate::{annulus, disk_with_holes, rectangle_with_holes, square_grid};
+use demkit::generate::{annulus, disk_with_holes, rectangle_with_holes};
 use demkit::methods::{MapResult, dem, deq, ldeq};
 use demkit::metrics::{Domain, Metrics, compute};
 use demkit::population::{PopulationSpec, face_populations};
@@ -22,6 +22,9 @@ use common::{SERIAL, data};
 #[path = "common/cut.rs"]
 mod cut;
 use cut::{cut_holes, random_holes};
+#[path = "common/domains.rs"]
+mod domains;
+use domains::{planar_domain, spread_landmarks, square_spiral};
 
 fn load(rel: &str) -> TriMesh {
     let mesh = demkit::io::read_mesh(&data(rel)).unwrap();
@@ -338,28 +341,6 @@ fn disk_with_six_holes() {
     variation("disk with 6 holes", &mesh, &pop, 6);
 }
 
-/// A planar domain: the `width × height` grid of `cells` squares per unit with the faces
-/// whose centroid `keep` rejects removed, then holes cut into it (jagged loops).
-fn planar_domain(
-    width: f64,
-    height: f64,
-    cells: usize,
-    keep: impl Fn([f64; 2]) -> bool,
-    holes: &[([f64; 3], f64)],
-) -> TriMesh {
-    let size = |l: f64| (cells as f64 * l).round() as usize;
-    let mut grid = square_grid(size(width), size(height), width, height).unwrap();
-    let positions = grid.positions.clone();
-    grid.faces.retain(|f| {
-        let c = f.iter().fold([0.0; 2], |s, &v| {
-            let p = positions[v as usize];
-            [s[0] + p[0] / 3.0, s[1] + p[1] / 3.0]
-        });
-        keep(c)
-    });
-    cut_holes(&grid, holes, true)
-}
-
 /// A C-shaped domain (the 3 × 2 rectangle with a 2 × 0.8 bite out of its right side) with a
 /// hole in each arm: the initial map presses the arms, and the holes in them, against the
 /// outer circle.
@@ -427,26 +408,7 @@ fn human_brain_with_four_holes() {
 fn ldeq_case(name: &str, mesh: &TriMesh, pop: &[f64], k: usize, distance: f64) {
     let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let free = deq::run(mesh, pop, &deq::Config::default(), &mut |_| {}).unwrap();
-    let x = &free.positions;
-    let loops = demkit::mesh::topology::topology(mesh).boundary_loops;
-    let on_loop: Vec<[f64; 3]> = loops.iter().flatten().map(|&v| x[v as usize]).collect();
-    let d = |a: [f64; 3], b: [f64; 3]| (a[0] - b[0]).hypot(a[1] - b[1]);
-    let mut landmarks: Vec<(usize, [f64; 3])> = Vec::new();
-    let mut state: u64 = 12345;
-    while landmarks.len() < k {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        let v = (state >> 33) as usize % mesh.n_vertices();
-        let p = x[v];
-        if on_loop.iter().all(|&q| d(p, q) > 2.5 * distance)
-            && landmarks.iter().all(|l| d(p, x[l.0]) > 0.15)
-        {
-            let t = 2.399963 * landmarks.len() as f64;
-            let q = [p[0] + distance * t.cos(), p[1] + distance * t.sin(), 0.0];
-            landmarks.push((v, q));
-        }
-    }
+    let landmarks = spread_landmarks(mesh, &free.positions, k, distance);
     let t0 = Instant::now();
     let r = ldeq::run(mesh, pop, &landmarks, &ldeq::Config::default(), &mut |_| {}).unwrap();
     let elapsed = t0.elapsed().as_secs_f64();
@@ -528,45 +490,7 @@ fn ldeq_target_in_a_hole_is_reported_missed() {
 #[test]
 #[ignore = "part of the DEQ acceptance runs (release build)"]
 fn square_spiral_with_flat_holes() {
-    let (n, step) = (96.0, 6.0);
-    // Turn lengths a, then a − step twice, a − 2 step twice, … while above one step.
-    let mut lengths = vec![n - step];
-    let mut a = n - 2.0 * step;
-    while a > step {
-        lengths.extend([a, a]);
-        a -= step;
-    }
-    let mut wall = vec![[step - 0.5, 0.5]];
-    for (turn, length) in lengths.iter().enumerate() {
-        let [x, y] = wall[wall.len() - 1];
-        let (dx, dy) = [(0.0, 1.0), (1.0, 0.0), (0.0, -1.0), (-1.0, 0.0)][turn % 4];
-        wall.push([x + dx * length, y + dy * length]);
-    }
-    let to_wall = |p: [f64; 2]| {
-        wall.windows(2)
-            .map(|s| demkit::geometry::segment::segment_distance(p, s[0], s[1]).0)
-            .fold(f64::INFINITY, f64::min)
-    };
-    // Hole centres along the middle row, one per corridor, well inside it.
-    let mut centres: Vec<f64> = Vec::new();
-    for i in 0..(n as usize) {
-        let x = n / 2.0 + i as f64 * 0.25;
-        if to_wall([x, n / 2.0]) >= 2.4 && centres.last().is_none_or(|&c| x - c >= step) {
-            centres.push(x);
-        }
-    }
-    let holes: Vec<([f64; 3], f64)> = centres
-        .iter()
-        .take(4)
-        .map(|&x| ([x / n, 0.5, 0.0], 1.0 / n))
-        .collect();
-    let mesh = planar_domain(
-        1.0,
-        1.0,
-        n as usize,
-        |c| to_wall([c[0] * n, c[1] * n]) > 0.5,
-        &holes,
-    );
+    let mesh = square_spiral();
     let pop = population(&mesh, "area");
     let (_, m) = run_deq("square spiral, flat holes", &mesh, &pop);
     assert!(m.face_density_var_final <= 0.25);

@@ -13,6 +13,8 @@ use std::time::Duration;
 
 #[path = "../../tests/common/cut.rs"]
 pub mod cut;
+#[path = "../../tests/common/domains.rs"]
+pub mod domains;
 
 /// A group for multi-second cases: ten samples, each one run (flat sampling), a short
 /// measurement time (criterion extends it when one run takes longer).
@@ -90,28 +92,5 @@ pub fn ldeq_landmarks(
     k: usize,
     distance: f64,
 ) -> Vec<(usize, [f64; 3])> {
-    let free = run_deq(mesh, pop);
-    let x = &free.positions;
-    let loops = demkit::mesh::topology::topology(mesh).boundary_loops;
-    let on_loop: Vec<[f64; 3]> = loops.iter().flatten().map(|&v| x[v as usize]).collect();
-    let d = |a: [f64; 3], b: [f64; 3]| (a[0] - b[0]).hypot(a[1] - b[1]);
-    let mut landmarks: Vec<(usize, [f64; 3])> = Vec::new();
-    let mut state: u64 = 12345;
-    while landmarks.len() < k {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        let v = (state >> 33) as usize % mesh.n_vertices();
-        let p = x[v];
-        if on_loop.iter().all(|&q| d(p, q) > 2.5 * distance)
-            && landmarks.iter().all(|l| d(p, x[l.0]) > 0.15)
-        {
-            let t = 2.399963 * landmarks.len() as f64;
-            landmarks.push((
-                v,
-                [p[0] + distance * t.cos(), p[1] + distance * t.sin(), 0.0],
-            ));
-        }
-    }
-    landmarks
+    domains::spread_landmarks(mesh, &run_deq(mesh, pop).positions, k, distance)
 }
