@@ -99,17 +99,12 @@ pub fn run(a: &RenderArgs) -> Result<u8, Failure> {
 
 /// One finite value per face from a file in the population-file format.
 fn read_face_values(path: &Path, n_faces: usize) -> Result<Vec<f64>, Failure> {
-    // Errors name the option: the count error through its label, the others by a prefix.
     let values =
-        demkit::population::read_face_values(path, n_faces, "--color file").map_err(|e| {
+        demkit::population::read_face_values(path, n_faces, "colour file").map_err(|e| {
             let f = Failure::from(e);
-            if f.message.starts_with("--color") {
-                f
-            } else {
-                Failure {
-                    message: format!("--color: {}", f.message),
-                    ..f
-                }
+            Failure {
+                message: format!("--color: {}", f.message),
+                ..f
             }
         })?;
     if let Some((f, v)) = values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
