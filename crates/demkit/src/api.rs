@@ -344,7 +344,7 @@ fn run_method(
         Method::Sdem => {
             let mut c = sdem::Config::default();
             common(&mut c.epsilon, &mut c.max_iter);
-            c.dt = o.dt.unwrap_or(c.dt);
+            c.dt = o.dt.or(c.dt);
             sdem::run(mesh, population, &c, progress)
         }
         Method::Lsdem => {

@@ -7,6 +7,7 @@ use crate::TriMesh;
 use crate::fem::VertexFaces;
 use crate::geometry::{face_areas, signed_areas_2d};
 use crate::qc::{beltrami_coefficient_surface, beltrami_coefficient_surfaces};
+use rayon::prelude::*;
 
 /// The target domain of a map, which decides how flips and areas are measured.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -171,16 +172,27 @@ pub fn densities(
     (w.apply(areas, &rho_f), rho_f)
 }
 
-/// Mean and standard deviation of |d(T)|, d(T) = log((A/ΣA)/(P/ΣP)).
-pub fn density_error(population: &[f64], areas: &[f64]) -> (f64, f64) {
+/// |d(T)| for every face, d(T) = log((A/ΣA)/(P/ΣP)): how far each face's share of the area is
+/// from its share of the population.
+fn log_area_ratios(population: &[f64], areas: &[f64]) -> Vec<f64> {
     let sp: f64 = population.iter().sum();
     let sa: f64 = areas.iter().sum();
-    let n = areas.len() as f64;
-    let d: Vec<f64> = population
-        .iter()
-        .zip(areas)
+    population
+        .par_iter()
+        .zip(areas.par_iter())
         .map(|(p, a)| ((a / sa) / (p / sp)).ln().abs())
-        .collect();
+        .collect()
+}
+
+/// The face misfit, the mean of |d(T)|, d(T) = log((A/ΣA)/(P/ΣP)), summed in face order.
+pub fn log_area_misfit(population: &[f64], areas: &[f64]) -> f64 {
+    log_area_ratios(population, areas).iter().sum::<f64>() / areas.len() as f64
+}
+
+/// Mean and standard deviation of |d(T)|, d(T) = log((A/ΣA)/(P/ΣP)).
+pub fn density_error(population: &[f64], areas: &[f64]) -> (f64, f64) {
+    let d = log_area_ratios(population, areas);
+    let n = areas.len() as f64;
     let mean = d.iter().sum::<f64>() / n;
     let sd = (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n).sqrt();
     (mean, sd)

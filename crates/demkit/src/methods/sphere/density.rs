@@ -6,7 +6,7 @@ use super::overlap::tangential;
 use crate::Result;
 use crate::fem::{DiffusionOperator, VertexFaces, face_gradient};
 use crate::geometry::face_areas;
-use crate::metrics::normalized_variance;
+use crate::metrics::{log_area_misfit, normalized_variance};
 use rayon::prelude::*;
 
 /// The recoupled density of a map (3.22) and the quantities measured on it.
@@ -17,6 +17,8 @@ pub(crate) struct Density {
     pub rho_v: Vec<f64>,
     /// sd(ρ_V) / mean(ρ_V): SDEM's stopping quantity.
     pub sd_over_mean: f64,
+    /// The face misfit mean |log((A/ΣA)/(P/ΣP))| ([`log_area_misfit`]).
+    pub misfit: f64,
 }
 
 /// The diffusion operators of one mesh.
@@ -49,6 +51,7 @@ impl<'a> SphereDiffusion<'a> {
         let rho_v = self.incidence.apply(&areas, &rho_f);
         let sd_over_mean = normalized_variance(&rho_v).sqrt();
         Density {
+            misfit: log_area_misfit(self.population, &areas),
             areas,
             rho_v,
             sd_over_mean: if sd_over_mean.is_finite() {
