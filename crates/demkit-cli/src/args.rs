@@ -32,6 +32,8 @@ pub enum Command {
     Register(RegisterArgs),
     /// Draw a mesh to a PNG picture.
     Render(RenderArgs),
+    /// Split every triangle into four at its edge midpoints (the same surface, finer).
+    Subdivide(SubdivideArgs),
 }
 
 /// `demkit info MESH [--json]`
@@ -435,4 +437,29 @@ pub enum GenerateKind {
         #[arg(long, default_value_t = 32)]
         minor: usize,
     },
+}
+
+/// `demkit subdivide MESH --out OUT [--levels N] [--population FILE --population-out FILE]`
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct SubdivideArgs {
+    /// The input mesh (.obj, .ply, .off, .stl).
+    pub mesh: PathBuf,
+    /// Output mesh (.obj or .ply): the input vertices first, then the edge midpoints; face f
+    /// becomes faces 4^N·f to 4^N·(f+1) − 1.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// How many times every triangle is split into four (N rounds: 4^N times the faces).
+    #[arg(long, default_value_t = 1)]
+    pub levels: usize,
+    /// A population file of the input (one value per face), to split among the new faces.
+    #[arg(long, value_name = "FILE", requires = "population_out")]
+    pub population: Option<PathBuf>,
+    /// Where the split population goes: every input value divided equally among its 4^N
+    /// faces, one value per line.
+    #[arg(long, value_name = "FILE", requires = "population")]
+    pub population_out: Option<PathBuf>,
+    /// No summary line and no warnings.
+    #[arg(long)]
+    pub quiet: bool,
 }

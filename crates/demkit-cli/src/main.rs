@@ -15,6 +15,7 @@ mod register;
 mod remesh;
 mod render;
 mod report;
+mod subdivide;
 
 use clap::Parser;
 use std::process::ExitCode;
@@ -37,7 +38,7 @@ impl From<demkit::Error> for Failure {
 }
 
 /// The library's parameters and the flags that set them.
-const FLAGS: [(&str, &str); 13] = [
+const FLAGS: [(&str, &str); 14] = [
     ("epsilon", "--epsilon"),
     ("dt", "--dt"),
     ("max_iter", "--max-iter"),
@@ -51,6 +52,7 @@ const FLAGS: [(&str, &str); 13] = [
     ("value", "--value"),
     ("sphere", "--sphere"),
     ("project", "--project"),
+    ("levels", "--levels"),
 ];
 
 /// The error's message, with the library's parameters named by their flags: an argument error
@@ -168,6 +170,7 @@ fn main() -> ExitCode {
         args::Command::Cartogram(a) => cartogram::run(&a),
         args::Command::Register(a) => register::run(&a),
         args::Command::Render(a) => render::run(&a),
+        args::Command::Subdivide(a) => subdivide::run(&a),
     });
     match outcome {
         Ok(Ok(code)) => ExitCode::from(code),
