@@ -4,6 +4,7 @@
 //! converged within `--max-iter` (result and report still written); 1 anything else.
 
 mod args;
+mod bench;
 mod cartogram;
 mod cartogram_png;
 mod generate;
@@ -171,6 +172,8 @@ fn main() -> ExitCode {
         args::Command::Register(a) => register::run(&a),
         args::Command::Render(a) => render::run(&a),
         args::Command::Subdivide(a) => subdivide::run(&a),
+        args::Command::Bench(a) => bench::run(&a),
+        args::Command::BenchMap(a) => bench::map_with_peak_memory(&a),
     });
     match outcome {
         Ok(Ok(code)) => ExitCode::from(code),
