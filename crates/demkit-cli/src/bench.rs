@@ -484,5 +484,15 @@ fn read_report(path: &Path) -> Result<Figures, String> {
         },
         density_error_mean: number("/metrics/density_error_mean"),
         flipped_triangles: count("/metrics/flipped_triangles")?,
+        notes: v
+            .pointer("/notes")
+            .and_then(Value::as_array)
+            .map(|notes| {
+                notes
+                    .iter()
+                    .filter_map(|n| Some(n.as_str()?.to_string()))
+                    .collect()
+            })
+            .unwrap_or_default(),
     })
 }

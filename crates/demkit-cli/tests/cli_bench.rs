@@ -283,6 +283,12 @@ fn a_case_stopped_by_max_iter_is_shown_as_not_converged() {
     let disk = row(&out.stdout, "generated/disk-10k");
     assert_eq!(disk[8], "2");
     assert_eq!(disk[9], "max_iter (NOT CONVERGED)");
+    assert!(
+        out.stdout
+            .contains("generated/disk-10k did not converge: max_iter after 2 iterations"),
+        "{}",
+        out.stdout
+    );
     let results = json_file(&s.path("r.json"));
     let c = case(&results, "generated/disk-10k");
     assert_eq!(c["converged"], false);
