@@ -32,6 +32,14 @@ pub enum Command {
     Register(RegisterArgs),
     /// Draw a mesh to a PNG picture.
     Render(RenderArgs),
+    /// Split every triangle into four at its edge midpoints (the same surface, finer).
+    Subdivide(SubdivideArgs),
+    /// Time `demkit map` on a suite of meshes: iterations, accuracy and peak memory per case.
+    Bench(BenchArgs),
+    /// `demkit map` that also prints its peak resident memory on stdout: how `demkit bench`
+    /// runs each case.
+    #[command(name = "bench-map", hide = true)]
+    BenchMap(MapArgs),
 }
 
 /// `demkit info MESH [--json]`
@@ -435,4 +443,56 @@ pub enum GenerateKind {
         #[arg(long, default_value_t = 32)]
         minor: usize,
     },
+}
+
+/// `demkit subdivide MESH --out OUT [--levels N] [--population FILE --population-out FILE]`
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct SubdivideArgs {
+    /// The input mesh (.obj, .ply, .off, .stl).
+    pub mesh: PathBuf,
+    /// Output mesh (.obj or .ply): the input vertices first, then the edge midpoints; face f
+    /// becomes faces 4^N·f to 4^N·(f+1) − 1.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// How many times every triangle is split into four (N rounds: 4^N times the faces).
+    #[arg(long, default_value_t = 1)]
+    pub levels: usize,
+    /// A population file of the input (one value per face), to split among the new faces.
+    #[arg(long, value_name = "FILE", requires = "population_out")]
+    pub population: Option<PathBuf>,
+    /// Where the split population goes: every input value divided equally among its 4^N
+    /// faces, one value per line.
+    #[arg(long, value_name = "FILE", requires = "population")]
+    pub population_out: Option<PathBuf>,
+    /// No summary line and no warnings.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `demkit bench [--data DIR] [--scale] [--filter TEXT] [--json FILE]`
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct BenchArgs {
+    /// The papers' meshes (genus0/, genus1/, open/): adds the real-mesh cases. Default: the
+    /// directory in DEMKIT_DATA, when that is set.
+    #[arg(long, value_name = "DIR")]
+    pub data: Option<PathBuf>,
+    /// Adds the large cases: meshes of 0.3 to 1.5 million faces, among them the real ones
+    /// subdivided (with --data), for time and memory against size.
+    #[arg(long)]
+    pub scale: bool,
+    /// Runs only the cases whose name contains TEXT (repeat for several).
+    #[arg(long, value_name = "TEXT")]
+    pub filter: Vec<String>,
+    /// Also writes the results as JSON here.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Caps every case's iterations (default: each method's own limit); a case stopped by it is
+    /// shown as not converged.
+    #[arg(long, value_name = "N")]
+    pub max_iter: Option<usize>,
+    /// Lists the cases (name, mesh, method, population) without running them.
+    #[arg(long)]
+    pub list: bool,
 }

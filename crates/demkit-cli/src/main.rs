@@ -4,6 +4,7 @@
 //! converged within `--max-iter` (result and report still written); 1 anything else.
 
 mod args;
+mod bench;
 mod cartogram;
 mod cartogram_png;
 mod generate;
@@ -15,6 +16,7 @@ mod register;
 mod remesh;
 mod render;
 mod report;
+mod subdivide;
 
 use clap::Parser;
 use std::process::ExitCode;
@@ -37,7 +39,7 @@ impl From<demkit::Error> for Failure {
 }
 
 /// The library's parameters and the flags that set them.
-const FLAGS: [(&str, &str); 13] = [
+const FLAGS: [(&str, &str); 14] = [
     ("epsilon", "--epsilon"),
     ("dt", "--dt"),
     ("max_iter", "--max-iter"),
@@ -51,6 +53,7 @@ const FLAGS: [(&str, &str); 13] = [
     ("value", "--value"),
     ("sphere", "--sphere"),
     ("project", "--project"),
+    ("levels", "--levels"),
 ];
 
 /// The error's message, with the library's parameters named by their flags: an argument error
@@ -168,6 +171,9 @@ fn main() -> ExitCode {
         args::Command::Cartogram(a) => cartogram::run(&a),
         args::Command::Register(a) => register::run(&a),
         args::Command::Render(a) => render::run(&a),
+        args::Command::Subdivide(a) => subdivide::run(&a),
+        args::Command::Bench(a) => bench::run(&a),
+        args::Command::BenchMap(a) => bench::map_with_peak_memory(&a),
     });
     match outcome {
         Ok(Ok(code)) => ExitCode::from(code),

@@ -1,13 +1,16 @@
-//! Triangle meshes: the [`TriMesh`] type, topology, validation, welding and edge splitting.
+//! Triangle meshes: the [`TriMesh`] type, topology, validation, welding, edge splitting and
+//! midpoint subdivision.
 
 pub mod scale;
 pub mod split;
+pub mod subdivide;
 pub mod topology;
 pub mod triangulate;
 pub(crate) mod union_find;
 pub mod validate;
 pub mod weld;
 
+pub use subdivide::{split_population, subdivide, subdivide_levels};
 pub use topology::{Topology, connected_components, edges, topology, vertex_faces};
 pub use validate::{Findings, check, validate};
 pub use weld::weld;
