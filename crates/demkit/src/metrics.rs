@@ -97,9 +97,14 @@ pub fn barely_moved(m: &Metrics) -> Option<String> {
     if !(v0 > ALREADY_EQUAL) || v0 - v1 >= MIN_PROGRESS * v0 {
         return None;
     }
-    Some(format!(
-        "the map barely moved: the face density variance went only from {v0:.4} to {v1:.4}"
-    ))
+    Some(if v1 > v0 {
+        format!(
+            "the map did not equalize the density: the face density variance rose from \
+             {v0:.4} to {v1:.4}"
+        )
+    } else {
+        format!("the map barely moved: the face density variance went only from {v0:.4} to {v1:.4}")
+    })
 }
 
 /// Why a map that its method reports as converged did not do what the method is for, judged
@@ -279,6 +284,30 @@ mod tests {
         assert!(r.density_iqr.abs() < 1e-15);
         assert!(r.mean_abs_mu < 1e-15);
         assert_eq!(r.landmark_error, None);
+    }
+
+    #[test]
+    fn a_map_that_did_not_equalize_is_named_for_what_it_did() {
+        let m = two_triangles();
+        let pop = vec![0.5, 0.5];
+        let mut r = compute(&m, &pop, &m.positions, &m.positions, Domain::Plane, None);
+        (r.face_density_var_initial, r.face_density_var_final) = (0.5, 0.3);
+        assert_eq!(barely_moved(&r), None);
+        r.face_density_var_final = 0.48;
+        assert!(barely_moved(&r).unwrap().contains("barely moved"));
+        r.face_density_var_final = 0.7;
+        assert!(
+            barely_moved(&r)
+                .unwrap()
+                .contains("rose from 0.5000 to 0.7000")
+        );
+        (r.face_density_var_initial, r.face_density_var_final) = (0.005, 0.7);
+        assert_eq!(barely_moved(&r), None);
+        // The face misfit is the mean |log| of the area shares over the population shares.
+        let areas = [1.0, 4.0];
+        let expect = ((0.2f64 / 0.5).ln().abs() + (0.8f64 / 0.5).ln().abs()) / 2.0;
+        assert!((log_area_misfit(&pop, &areas) - expect).abs() < 1e-15);
+        assert_eq!(density_error(&pop, &areas).0, log_area_misfit(&pop, &areas));
     }
 
     #[test]
