@@ -124,6 +124,19 @@ pub fn build_sea_with_radius(
     let circle = circle_points(&bands);
     let (m, c) = (fill.len(), circle.len());
 
+    let parts = SeaParts {
+        roi: &z,
+        roi_faces,
+        boundary,
+        bpoly: &bpoly,
+        index: &index,
+        fill: &fill,
+        circle: &circle,
+    };
+    if let Some(sea) = graded_outer_sea(&parts, eta, &frame, roi_positions)? {
+        return Ok(sea);
+    }
+
     // Uncompacted vertex layout: ROI | fill | circle | reflections of ROI and fill.
     let n_disk = n + m + c;
     let nv = n_disk + n + m;
@@ -261,4 +274,173 @@ pub fn build_sea_with_radius(
         n_roi_vertices: n,
         n_roi_faces: roi_faces.len(),
     })
+}
+
+/// [`graded_outer_sea`] is used when the farthest reflected ROI boundary vertex lies within
+/// the truncation radius divided by this.
+const OUTER_MARGIN: f64 = 1.25;
+
+/// The pieces of the sea inside the unit circle, in the frame of [`Similarity`].
+struct SeaParts<'a> {
+    roi: &'a [[f64; 2]],
+    roi_faces: &'a [[u32; 3]],
+    boundary: &'a [u32],
+    bpoly: &'a [[f64; 2]],
+    index: &'a BoundaryIndex<'a>,
+    fill: &'a [[f64; 2]],
+    circle: &'a [[f64; 2]],
+}
+
+/// The sea with the reflected ring but without the reflected ROI: beyond the reflection of
+/// the ROI boundary, up to the circle of radius `eta` (or a little beyond the farthest
+/// reflected boundary vertex), a graded fill triangulated like the ring. `None` when the
+/// origin is not inside the ROI (the reflection of the ring would not be bounded) or a
+/// reflected face would be inverted; the caller then reflects the whole disk.
+fn graded_outer_sea(
+    parts: &SeaParts,
+    eta: f64,
+    frame: &Similarity,
+    roi_positions: &[[f64; 2]],
+) -> Result<Option<SeaMesh>> {
+    let SeaParts {
+        roi,
+        roi_faces,
+        boundary,
+        bpoly,
+        index,
+        fill,
+        circle,
+    } = *parts;
+    let (n, m, c, b) = (roi.len(), fill.len(), circle.len(), boundary.len());
+    if !index.contains([0.0, 0.0]) || !index.far_from_boundary([0.0, 0.0]) {
+        return Ok(None);
+    }
+    let ring = ring::triangulate_ring(bpoly, boundary, fill, circle, n, index)?;
+    let inv = |p: [f64; 2]| {
+        let r2 = p[0] * p[0] + p[1] * p[1];
+        [p[0] / r2, p[1] / r2]
+    };
+    // Reflected boundary (z ↦ 1/z̄ keeps every point's angle, so it still runs
+    // counter-clockwise around the origin), scaled into the unit disk.
+    let far = bpoly
+        .iter()
+        .map(|&p| {
+            let q = inv(p);
+            q[0].hypot(q[1])
+        })
+        .fold(0.0, f64::max);
+    // The reflected ring must stay inside the truncation radius, with room for a band of fill.
+    if !(OUTER_MARGIN * far <= eta) {
+        return Ok(None);
+    }
+    let radius = eta;
+    let outer_poly: Vec<[f64; 2]> = (0..b)
+        .map(|k| {
+            let q = inv(bpoly[k]);
+            [q[0] / radius, q[1] / radius]
+        })
+        .collect();
+    let lengths: f64 = (0..b)
+        .map(|k| {
+            let (p, q) = (outer_poly[k], outer_poly[(k + 1) % b]);
+            (q[0] - p[0]).hypot(q[1] - p[1])
+        })
+        .sum();
+    let spacing = fill_spacing(lengths / b as f64);
+    let outer_index = BoundaryIndex::new(&outer_poly, 0.5 * spacing);
+    let outer_bands = Bands::new(&outer_poly, spacing);
+    let outer_fill = graded_fill(&outer_index, &outer_bands);
+    let outer_circle = circle_points(&outer_bands);
+
+    // Vertex layout: ROI | fill | circle | reflected boundary | reflected fill | outer fill |
+    // outer circle.
+    let n_disk = n + m + c;
+    let rb = n_disk; // reflected boundary vertex k (boundary order)
+    let rf = rb + b; // reflected fill point k
+    let of = rf + m; // outer fill and outer circle
+    let nv = of + outer_fill.len() + outer_circle.len();
+    if nv >= u32::MAX as usize {
+        return Err(Error::Argument(format!(
+            "the sea would need {nv} vertices, more than 32-bit indices allow"
+        )));
+    }
+    let mut pos = Vec::with_capacity(nv);
+    pos.extend_from_slice(roi);
+    pos.extend_from_slice(fill);
+    pos.extend_from_slice(circle);
+    pos.extend(bpoly.iter().map(|&p| inv(p)));
+    pos.extend(fill.iter().map(|&p| inv(p)));
+    pos.extend(
+        outer_fill
+            .iter()
+            .chain(&outer_circle)
+            .map(|p| [p[0] * radius, p[1] * radius]),
+    );
+    let mut slot = vec![u32::MAX; n];
+    for (k, &v) in boundary.iter().enumerate() {
+        slot[v as usize] = (rb + k) as u32;
+    }
+    let reflect = |v: u32| -> u32 {
+        let v = v as usize;
+        if v < n {
+            slot[v]
+        } else if v < n + m {
+            (rf + v - n) as u32
+        } else {
+            v as u32
+        }
+    };
+    let outer_ids: Vec<u32> = (0..b).map(|k| (rb + k) as u32).collect();
+    let outer = ring::triangulate_ring(
+        &outer_poly,
+        &outer_ids,
+        &outer_fill,
+        &outer_circle,
+        of,
+        &outer_index,
+    )?;
+
+    let mut faces = Vec::with_capacity(roi_faces.len() + 2 * ring.len() + outer.len());
+    faces.extend_from_slice(roi_faces);
+    faces.extend_from_slice(&ring);
+    for f in &ring {
+        let r = [reflect(f[0]), reflect(f[2]), reflect(f[1])];
+        if r.contains(&u32::MAX) || orient(&pos, r) <= 0.0 {
+            return Ok(None);
+        }
+        faces.push(r);
+    }
+    faces.extend_from_slice(&outer);
+
+    // Compact: ROI vertices keep their indices; referenced sea vertices follow in order.
+    let mut referenced = vec![false; nv];
+    for f in &faces {
+        for &v in f {
+            referenced[v as usize] = true;
+        }
+    }
+    let mut new_index = vec![u32::MAX; nv];
+    let mut positions = roi_positions.to_vec();
+    for (i, slot) in new_index.iter_mut().enumerate().take(n) {
+        *slot = i as u32;
+    }
+    for v in n..nv {
+        if referenced[v] {
+            new_index[v] = positions.len() as u32;
+            positions.push(frame.invert(pos[v]));
+        }
+    }
+    let faces: Vec<[u32; 3]> = faces
+        .iter()
+        .map(|f| f.map(|v| new_index[v as usize]))
+        .collect();
+    if check_disk(&positions, &faces, roi_faces.len()).is_err() {
+        return Ok(None);
+    }
+    Ok(Some(SeaMesh {
+        positions,
+        faces,
+        n_roi_vertices: n,
+        n_roi_faces: roi_faces.len(),
+    }))
 }

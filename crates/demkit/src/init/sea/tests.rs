@@ -176,6 +176,34 @@ fn disk_roi_gets_a_sea() {
 }
 
 #[test]
+fn the_far_sea_is_a_graded_fill_not_a_reflected_copy_of_the_roi() {
+    // A fine ROI (38 400 faces) at DEM's radius 0.85: reflecting it would put most of its
+    // vertices into the sea; the graded fill beyond the reflected ring costs a fraction of
+    // them, and the sea still reaches the truncation radius.
+    let (pos, faces, boundary) = disk(80, [1.0, 2.0], 3.0);
+    let n = pos.len();
+    let sea = build_sea_with_radius(&pos, &faces, &boundary, 5.0, 0.85).unwrap();
+    assert_eq!(&sea.positions[..n], &pos[..]);
+    assert_eq!(&sea.faces[..faces.len()], &faces[..]);
+    assert!(sea.faces.iter().all(|f| area(&sea.positions, *f) > 0.0));
+    let sea_vertices = sea.positions.len() - n;
+    assert!(
+        2 * sea_vertices < n,
+        "{sea_vertices} sea vertices for {n} ROI vertices"
+    );
+    let frame = Similarity::fit(&pos, &faces, 0.85).unwrap();
+    let rmax = sea
+        .positions
+        .iter()
+        .map(|&p| {
+            let z = frame.apply(p);
+            z[0].hypot(z[1])
+        })
+        .fold(0.0, f64::max);
+    assert!(rmax > 0.99 * 5.0 && rmax < 5.0 * (1.0 + 1e-12), "{rmax}");
+}
+
+#[test]
 fn disk_roi_with_other_eta() {
     let (pos, faces, boundary) = disk(8, [0.0, 0.0], 1.0);
     check_sea(&pos, &faces, &boundary, 2.0);

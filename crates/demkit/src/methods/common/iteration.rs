@@ -8,8 +8,11 @@
 //! - **step** ([`Step`]): a fixed length, every move kept (the papers' explicit iterations); or
 //!   adaptive: the step starts at the flow's longest ([`Flow::step_cap`]), a move that does not
 //!   lower the merit is undone and the step halved, after one that does the next may be twice
-//!   as long as the move actually made (capped again by the flow); or the flow's own (a Newton
-//!   step with its line search), every move kept;
+//!   as long as the move actually made (capped again by the flow); or adaptive with a search
+//!   along each direction ([`Step::Search`]): the same, but an accepted move is also tried
+//!   longer along the same direction, the step grows only after a move that was not a retry,
+//!   and slow progress first asks the flow for a finer scale ([`Flow::refine`]); or the flow's
+//!   own (a Newton step with its line search), every move kept;
 //! - **stop**: the stopping quantity below ε (tolerance); slow progress by the rule
 //!   [`Stationary`] asks for, or a step that could not move the map at all (stationary); the
 //!   iteration limit (not converged);
@@ -65,7 +68,18 @@ pub(crate) trait Flow {
         f64::INFINITY
     }
 
-    /// Advances `map`, measured as `m`, by a step of length `h` without folding it.
+    /// Asked by [`Step::Search`] when progress has slowed or stalled: a flow that works at a
+    /// scale it can make finer (DEM's smoothing length) switches to the finer scale and returns
+    /// the factor for the step length; `None` (the default) when it has none, which lets slow
+    /// progress end the run as usual.
+    fn refine(&mut self) -> Option<f64> {
+        None
+    }
+
+    /// Advances `map`, measured as `m`, by a step of length `h` without folding it. Under
+    /// [`Step::Search`] it may be called several times with the same `map` and `m` and other
+    /// lengths (a retry after a rejected move, a longer move along an accepted one); a flow
+    /// should then move along the direction it computed the first time, scaled.
     fn advance(
         &mut self,
         map: &Self::Map,
@@ -81,6 +95,10 @@ pub(crate) enum Step {
     Fixed(f64),
     /// Steps adapted to the flow (see the module docs).
     Adaptive,
+    /// Adaptive steps with a search along each direction (see the module docs and
+    /// [`RAMP_GROWTH`], [`SEARCH_DOUBLINGS`], [`REFINE_GAIN`]): one expensive direction per
+    /// accepted map, its length chosen by cheap trials.
+    Search,
     /// The flow chooses its own step (a Newton step and its line search): the iteration asks
     /// for a step of 1 and keeps every move. A move of fraction 0 left the map as it was (the
     /// flow renewed its model instead), which is not the end of the run: such a flow reports
@@ -187,6 +205,23 @@ const STEP_GROWTH: f64 = 2.0;
 /// After a move that did not lower the merit, the next step is this fraction of the move made.
 const STEP_SHRINK: f64 = 0.5;
 
+/// [`Step::Search`]: until the first move that did not lower the merit, the next step may be
+/// this many times as long as the move made. The first step, δt of (4.39) for DEM, can be
+/// orders of magnitude below the flow's scale (the hand's initial map: 1e-8 of its area);
+/// growing by 2 took 17 of the hand's 104 iterations to get there, by 4 it takes 9.
+pub(crate) const RAMP_GROWTH: f64 = 4.0;
+
+/// [`Step::Search`]: an accepted move that the flow did not have to shorten is tried up to
+/// this many times again, each twice as long along the same direction, while the merit keeps
+/// falling; the trials cost a move and a measurement each, not a new direction.
+pub(crate) const SEARCH_DOUBLINGS: usize = 3;
+
+/// [`Step::Search`]: an accepted full move, not a retry, that lowered the merit by less than
+/// this fraction asks the flow for a finer scale ([`Flow::refine`]): at its present scale the
+/// flow has reached what it can do (DEM: 3–7 % per move while there is work for the scale,
+/// below 1 % at its floor).
+pub(crate) const REFINE_GAIN: f64 = 0.03;
+
 /// An adaptive iteration whose step has shrunk below this fraction of its first step has
 /// stopped moving: stationary.
 const SMALLEST_STEP: f64 = 1e-6;
@@ -283,17 +318,20 @@ pub(crate) fn iterate<F: Flow>(
     let mut moves = std::collections::VecDeque::from([m.merit]);
     let first = match rules.step {
         Step::Fixed(h) => h,
-        Step::Adaptive => flow.step_cap(&m),
+        Step::Adaptive | Step::Search => flow.step_cap(&m),
         Step::Own => 1.0,
     };
     let mut h = first;
+    // Step::Search: no move has been rejected yet (the ramp); the last move was rejected; the
+    // last accepted move asks for a finer scale.
+    let (mut ramp, mut retry, mut slow) = (true, false, false);
     let mut stop_reason = StopReason::MaxIter;
     let mut iterations = 0;
     for it in 1..=rules.max_iter {
         iterations = it;
         let asked = match rules.step {
             Step::Fixed(h) => h,
-            Step::Adaptive => h.min(flow.step_cap(&m)),
+            Step::Adaptive | Step::Search => h.min(flow.step_cap(&m)),
             Step::Own => 1.0,
         };
         let moved = flow.advance(&map, &m, asked)?;
@@ -309,6 +347,37 @@ pub(crate) fn iterate<F: Flow>(
                 h = STEP_GROWTH * moved.fraction * asked;
             }
             Step::Adaptive => h = STEP_SHRINK * moved.fraction * asked,
+            Step::Search if next.merit < m.merit => {
+                // Longer moves along the same direction while the merit keeps falling.
+                let (mut made, mut fraction) = (moved.fraction * asked, moved.fraction);
+                let (mut best_map, mut best) = (moved.map, next);
+                for _ in 0..SEARCH_DOUBLINGS {
+                    if fraction < 1.0 {
+                        break;
+                    }
+                    let longer = flow.advance(&map, &m, 2.0 * made)?;
+                    let measured = flow.measure(&longer.map)?;
+                    if !(longer.fraction > 0.0 && measured.merit < best.merit) {
+                        break;
+                    }
+                    (made, fraction) = (2.0 * made * longer.fraction, longer.fraction);
+                    (best_map, best) = (longer.map, measured);
+                }
+                slow = fraction == 1.0 && !retry && m.merit - best.merit < REFINE_GAIN * m.merit;
+                let growth = match (retry, ramp) {
+                    (true, _) => 1.0,
+                    (false, true) => RAMP_GROWTH,
+                    (false, false) => STEP_GROWTH,
+                };
+                h = growth * made;
+                retry = false;
+                map = best_map;
+                m = best;
+            }
+            Step::Search => {
+                h = STEP_SHRINK * moved.fraction * asked;
+                (ramp, retry) = (false, true);
+            }
         }
         let shown = flow.shown(&m);
         history.push(shown);
@@ -346,9 +415,20 @@ pub(crate) fn iterate<F: Flow>(
         };
         let stuck = match rules.step {
             Step::Fixed(_) => moved.fraction == 0.0,
-            Step::Adaptive => !(h >= SMALLEST_STEP * first),
+            Step::Adaptive | Step::Search => !(h >= SMALLEST_STEP * first),
             Step::Own => false,
         };
+        // Step::Search: slow or stalled progress first asks the flow for a finer scale; the
+        // window of the stationary rule then starts again.
+        if rules.step == Step::Search && (slow || stalled) && !stuck {
+            slow = false;
+            if let Some(factor) = flow.refine() {
+                h *= factor;
+                best_history.clear();
+                best_history.push(best_merit);
+                continue;
+            }
+        }
         if stalled || stuck {
             stop_reason = StopReason::Stationary;
             break;
@@ -452,6 +532,116 @@ mod tests {
         let out = iterate(&mut flow, 3.0, &rules(Step::Adaptive), &mut |_| {}).unwrap();
         assert_eq!(out.stop_reason, StopReason::Stationary);
         assert_eq!(out.map, 3.0);
+    }
+
+    /// [`Toward`] with a small cap and a scale: each move goes the fraction `h` of the way to
+    /// the target, which is 1 at scale 0 and lies `offset` beyond 1 at the coarser scales
+    /// (`refines` of them left), so that a coarse scale stalls short of 1 until the flow
+    /// refines. Records every advance (from which map, how long) and every refinement.
+    struct Scaled {
+        cap: f64,
+        offset: f64,
+        refines: usize,
+        calls: Vec<(f64, f64)>,
+        refined: usize,
+    }
+
+    impl Flow for Scaled {
+        type Map = f64;
+        type Data = ();
+        fn measure(&mut self, x: &f64) -> Result<Measured<()>> {
+            Ok(Measured {
+                error: (x - 1.0).abs(),
+                merit: (x - 1.0).abs(),
+                data: (),
+            })
+        }
+        fn step_cap(&self, _m: &Measured<()>) -> f64 {
+            self.cap
+        }
+        fn refine(&mut self) -> Option<f64> {
+            (self.refines > 0).then(|| {
+                self.refines -= 1;
+                self.refined += 1;
+                self.offset = if self.refines == 0 {
+                    0.0
+                } else {
+                    0.5 * self.offset
+                };
+                0.5
+            })
+        }
+        fn advance(&mut self, x: &f64, _m: &Measured<()>, h: f64) -> Result<Moved<f64>> {
+            self.calls.push((*x, h));
+            let target = 1.0 - self.offset;
+            Ok(Moved {
+                map: x + h * (target - x),
+                fraction: 1.0,
+            })
+        }
+    }
+
+    #[test]
+    fn a_search_tries_an_accepted_move_longer_along_its_direction() {
+        // From 3 with the cap 0.05: 0.05 (x = 2.9), then 0.1, 0.2 and 0.4 from 3, each better:
+        // the iteration keeps x = 3 − 0.4 · 2 = 2.2, and the next step may be RAMP_GROWTH ·
+        // 0.4, capped at 0.05 again.
+        let mut flow = Scaled {
+            cap: 0.05,
+            offset: 0.0,
+            refines: 0,
+            calls: Vec::new(),
+            refined: 0,
+        };
+        let rules = Rules {
+            max_iter: 2,
+            ..rules(Step::Search)
+        };
+        let out = iterate(&mut flow, 3.0, &rules, &mut |_| {}).unwrap();
+        let first: Vec<(f64, f64)> = flow.calls[..4].to_vec();
+        assert_eq!(first, vec![(3.0, 0.05), (3.0, 0.1), (3.0, 0.2), (3.0, 0.4)]);
+        assert!((out.history[0] - 1.2).abs() < 1e-12);
+        assert!((flow.calls[4].0 - 2.2).abs() < 1e-12);
+        assert_eq!(flow.calls[4].1, 0.05);
+    }
+
+    #[test]
+    fn a_search_retries_shorter_without_growing_and_refines_when_slow() {
+        // The cap 4 overshoots from 3 to −5: retried from 3 at 2 (−1, no better), then at 1
+        // (x = 1, exact), which is also tried twice as long (−1, worse) before the tolerance
+        // ends the run.
+        let mut flow = Scaled {
+            cap: 4.0,
+            offset: 0.0,
+            refines: 0,
+            calls: Vec::new(),
+            refined: 0,
+        };
+        let out = iterate(&mut flow, 3.0, &rules(Step::Search), &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::Tolerance);
+        assert_eq!(
+            flow.calls,
+            vec![(3.0, 4.0), (3.0, 2.0), (3.0, 1.0), (3.0, 2.0)]
+        );
+        assert_eq!(out.map, 1.0);
+
+        // Stalled short of 1 at a coarse scale (the target 0.8): the flow is asked for a finer
+        // scale and goes on to the tolerance; a flow that has none is stationary at 0.2.
+        let scaled = |refines| Scaled {
+            cap: 0.5,
+            offset: 0.2,
+            refines,
+            calls: Vec::new(),
+            refined: 0,
+        };
+        let mut flow = scaled(2);
+        let out = iterate(&mut flow, 3.0, &rules(Step::Search), &mut |_| {}).unwrap();
+        assert!(flow.refined >= 1);
+        assert_eq!(out.stop_reason, StopReason::Tolerance);
+        let mut flow = scaled(0);
+        let out = iterate(&mut flow, 3.0, &rules(Step::Search), &mut |_| {}).unwrap();
+        assert_eq!(out.stop_reason, StopReason::Stationary);
+        assert!((out.map - 0.8).abs() < 1e-9);
     }
 
     #[test]
