@@ -2,12 +2,21 @@
 //! on a fixed connectivity: `(A + t L) ρ = A ρ₀`, with `A` the lumped mass and `L` the cotangent
 //! Laplacian of the current positions. The sparsity pattern and its symbolic Cholesky analysis
 //! are computed once; every [`factor`](DiffusionOperator::factor) only assembles and refactors
-//! numerically, reusing its buffers.
+//! numerically, reusing its buffers. [`factor_lazily`](DiffusionOperator::factor_lazily) skips
+//! even that while the map has barely changed since the last factorization.
 
 use super::{cotangent_weights_into, lumped_mass};
 use crate::linalg::{SparseCholesky, StiffnessPattern};
+use crate::metrics::log_area_misfit;
 use crate::{Error, Result};
 use std::cell::{RefCell, RefMut};
+
+/// How far a map's face areas may drift from those of the map last factored before
+/// [`DiffusionOperator::factor_lazily`] factors again: the mean |ln| of the ratio of the
+/// normalised areas ([`log_area_misfit`]). Near the end of a run the map changes by a fraction
+/// of a percent per iteration, and a factorization costs several times the rest of an
+/// iteration (measurements in `docs/deviations.md`).
+pub const REFACTOR_DRIFT: f64 = 0.02;
 
 /// `A + t L` on one connectivity, ready to be refactored for new positions.
 pub struct DiffusionOperator {
@@ -16,6 +25,19 @@ pub struct DiffusionOperator {
     cholesky: RefCell<SparseCholesky>,
     weights: RefCell<Vec<[f64; 3]>>,
     values: RefCell<Vec<f64>>,
+    /// What the solver holds, when it was factored by
+    /// [`factor_lazily`](DiffusionOperator::factor_lazily).
+    last: RefCell<Option<Factored>>,
+    /// How many numeric factorizations were made.
+    factorizations: std::cell::Cell<usize>,
+}
+
+/// The map a lazily made factorization was built from: its diffusion time, face areas and
+/// lumped mass.
+struct Factored {
+    t: f64,
+    areas: Vec<f64>,
+    mass: Vec<f64>,
 }
 
 impl std::fmt::Debug for DiffusionOperator {
@@ -71,7 +93,49 @@ impl DiffusionOperator {
             cholesky,
             weights: RefCell::new(Vec::new()),
             values,
+            last: RefCell::new(None),
+            factorizations: std::cell::Cell::new(0),
         })
+    }
+
+    /// [`factor`](Self::factor) without the extra diagonal, unless the solver already holds a
+    /// factorization made here for a time within a factor e^`drift` of `t`, from a map whose
+    /// face areas differ from `areas`
+    /// by at most `drift` (their face misfit [`log_area_misfit`], the mean |ln| of the
+    /// ratio of the normalised areas). Then that factorization is returned, with the mass
+    /// of the map it was made from: `(A₀ + t L₀) ρ = A₀ ρ₀` still leaves a constant ρ₀ as it
+    /// is and conserves ∫ρ, and differs from the current operator by about `drift`.
+    pub fn factor_lazily(
+        &self,
+        positions: &[[f64; 3]],
+        areas: &[f64],
+        t: f64,
+        drift: f64,
+    ) -> Result<DiffusionFactor<'_>> {
+        {
+            let last = self.last.borrow();
+            if let Some(f) = last.as_ref().filter(|f| {
+                (t / f.t).ln().abs() <= drift && log_area_misfit(&f.areas, areas) <= drift
+            }) {
+                let solver = self.solver()?;
+                return Ok(DiffusionFactor {
+                    solver,
+                    mass: f.mass.clone(),
+                });
+            }
+        }
+        let factor = self.factor(positions, areas, t, &[])?;
+        *self.last.borrow_mut() = Some(Factored {
+            t,
+            areas: areas.to_vec(),
+            mass: factor.mass.clone(),
+        });
+        Ok(factor)
+    }
+
+    /// How many numeric factorizations this operator has made.
+    pub fn factorizations(&self) -> usize {
+        self.factorizations.get()
     }
 
     /// Factors `A + t L + D` for the mesh at `positions` with face areas `areas`, where `D` is
@@ -122,11 +186,18 @@ impl DiffusionOperator {
         let mut values = self.values.borrow_mut();
         self.pattern
             .assemble(scaled_weights, &diagonal, &mut values);
-        let mut solver = self.cholesky.try_borrow_mut().map_err(|_| {
-            Error::Numerical("diffusion operator refactored while its factor is in use".into())
-        })?;
+        let mut solver = self.solver()?;
+        *self.last.borrow_mut() = None;
+        self.factorizations.set(self.factorizations.get() + 1);
         solver.factor(&values)?;
         Ok(DiffusionFactor { solver, mass })
+    }
+
+    /// The solver, unless a factor still holds it.
+    fn solver(&self) -> Result<RefMut<'_, SparseCholesky>> {
+        self.cholesky.try_borrow_mut().map_err(|_| {
+            Error::Numerical("diffusion operator refactored while its factor is in use".into())
+        })
     }
 }
 
@@ -153,6 +224,59 @@ mod tests {
         let total = |r: &[f64]| r.iter().zip(&f.mass).map(|(a, b)| a * b).sum::<f64>();
         assert!((total(&out) - total(&peak)).abs() < 1e-12);
         assert!(out[20] < 10.0 && out[20] > 1.0);
+    }
+
+    #[test]
+    fn a_lazy_factor_is_reused_only_while_the_areas_barely_change() {
+        let (pos, faces, boundary) = grid(6, 0.2);
+        let op = DiffusionOperator::new(pos.len(), &faces).unwrap();
+        let areas = face_areas(&pos, &faces);
+        let mut peak = vec![1.0; pos.len()];
+        peak[20] = 10.0;
+        let fresh = op
+            .factor_lazily(&pos, &areas, 0.05, 0.02)
+            .unwrap()
+            .diffuse(&peak);
+        assert_eq!(op.factorizations(), 1);
+
+        // Interior vertices moved so that the face areas change by about 1 %, then 5 %.
+        let nudged = |eps: f64| -> Vec<[f64; 3]> {
+            pos.iter()
+                .zip(&boundary)
+                .map(|(p, &b)| {
+                    let s = if b {
+                        0.0
+                    } else {
+                        eps * (7.0 * p[0] + 3.0 * p[1]).sin()
+                    };
+                    [p[0] + 0.1 * s, p[1] - 0.1 * s, 0.0]
+                })
+                .collect()
+        };
+        let small = nudged(0.02);
+        let small_areas = face_areas(&small, &faces);
+        let drift = log_area_misfit(&areas, &small_areas);
+        assert!(drift > 0.0 && drift < 0.02, "{drift}");
+        // Reused, with the mass it was made from: the same result as before, constants steady.
+        let mut f = op.factor_lazily(&small, &small_areas, 0.05, 0.02).unwrap();
+        assert_eq!(f.diffuse(&peak).unwrap(), fresh.unwrap());
+        for x in f.diffuse(&vec![2.5; pos.len()]).unwrap() {
+            assert!((x - 2.5).abs() < 1e-12);
+        }
+        drop(f);
+        assert_eq!(op.factorizations(), 1);
+        // Another diffusion time, or areas that drifted further, are factored anew.
+        drop(op.factor_lazily(&small, &small_areas, 0.1, 0.02).unwrap());
+        assert_eq!(op.factorizations(), 2);
+        let large = nudged(0.3);
+        let large_areas = face_areas(&large, &faces);
+        assert!(log_area_misfit(&small_areas, &large_areas) > 0.02);
+        drop(op.factor_lazily(&large, &large_areas, 0.1, 0.02).unwrap());
+        assert_eq!(op.factorizations(), 3);
+        // A plain factorization (here with an extra diagonal) replaces what was held.
+        drop(op.factor(&large, &large_areas, 0.1, &[(3, 1.0)]).unwrap());
+        drop(op.factor_lazily(&large, &large_areas, 0.1, 0.02).unwrap());
+        assert_eq!(op.factorizations(), 5);
     }
 
     #[test]

@@ -10,7 +10,7 @@ mod gradient;
 mod laplacian;
 mod periodic;
 
-pub use diffusion::DiffusionOperator;
+pub use diffusion::{DiffusionOperator, REFACTOR_DRIFT};
 pub use dirichlet::{DirichletSystem, uniform_weights};
 pub use face_to_vertex::VertexFaces;
 pub use gradient::{face_gradient, face_gradient_into};

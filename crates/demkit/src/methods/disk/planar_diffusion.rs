@@ -9,7 +9,7 @@
 //!   exactly such a safeguard).
 
 use crate::Result;
-use crate::fem::{DiffusionOperator, VertexFaces, face_gradient_into};
+use crate::fem::{DiffusionOperator, REFACTOR_DRIFT, VertexFaces, face_gradient_into};
 use crate::geometry::face_areas;
 use crate::methods::iteration::{
     Flow, Keep, Measured, Moved, Rules, Stationary, Step, diffusion_time_step, iterate,
@@ -262,7 +262,9 @@ impl PlanarFlow<'_, '_> {
         let smoothing_time = dt.min(smoothing_bound(self.level, problem.n_roi_faces) * roi_area);
 
         // Diffusion (4.34): (A + T L) ρ̃ = A ρ.
-        let mut step_operator = self.diffusion.factor(r, areas, smoothing_time, &[])?;
+        let mut step_operator =
+            self.diffusion
+                .factor_lazily(r, areas, smoothing_time, REFACTOR_DRIFT)?;
         let rho = step_operator.diffuse(rho_v)?;
         let mass = &step_operator.mass;
 

@@ -4,7 +4,7 @@
 
 use super::overlap::tangential;
 use crate::Result;
-use crate::fem::{DiffusionOperator, VertexFaces, face_gradient};
+use crate::fem::{DiffusionOperator, REFACTOR_DRIFT, VertexFaces, face_gradient};
 use crate::geometry::face_areas;
 use crate::metrics::{log_area_misfit, normalized_variance};
 use rayon::prelude::*;
@@ -19,6 +19,9 @@ pub(crate) struct Density {
     pub sd_over_mean: f64,
     /// The face misfit mean |log((A/ΣA)/(P/ΣP))| ([`log_area_misfit`]).
     pub misfit: f64,
+    /// The velocity per unit step taken from this map, kept for the search along it
+    /// (`Step::Search`): a retry or a longer move reuses it.
+    pub direction: std::cell::RefCell<Option<Vec<[f64; 3]>>>,
 }
 
 /// The diffusion operators of one mesh.
@@ -51,6 +54,7 @@ impl<'a> SphereDiffusion<'a> {
         let rho_v = self.incidence.apply(&areas, &rho_f);
         let sd_over_mean = normalized_variance(&rho_v).sqrt();
         Density {
+            direction: std::cell::RefCell::new(None),
             misfit: log_area_misfit(self.population, &areas),
             areas,
             rho_v,
@@ -81,10 +85,12 @@ impl<'a> SphereDiffusion<'a> {
             .collect())
     }
 
-    /// One backward-Euler diffusion step (3.9), `(A + δt L) ρ = A ρ_V` ([`DiffusionOperator`]).
+    /// One backward-Euler diffusion step (3.9), `(A + δt L) ρ = A ρ_V` ([`DiffusionOperator`]),
+    /// with the operator of the last map factored while the face areas have drifted from it
+    /// by at most [`REFACTOR_DRIFT`] ([`DiffusionOperator::factor_lazily`]).
     fn diffuse(&self, map: &[[f64; 3]], d: &Density, dt: f64) -> Result<Vec<f64>> {
         self.operator
-            .factor(map, &d.areas, dt, &[])?
+            .factor_lazily(map, &d.areas, dt, REFACTOR_DRIFT)?
             .diffuse(&d.rho_v)
     }
 

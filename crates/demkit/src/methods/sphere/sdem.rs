@@ -145,7 +145,7 @@ pub fn run_from(
     let mut rules = Rules {
         epsilon: config.epsilon,
         max_iter: config.max_iter,
-        step: Step::Adaptive,
+        step: Step::Search,
         stationary: Some(ADAPTIVE_STATIONARY),
         keep: Keep::Best,
     };
@@ -192,6 +192,11 @@ fn finish(
     t1: Instant,
     mut notes: Vec<String>,
 ) -> MapResult {
+    notes.push(format!(
+        "the diffusion operator was factored {} times in {} iterations",
+        flow.diffusion.operator().factorizations(),
+        out.iterations
+    ));
     if flow.corrected > 0 {
         notes.push(format!(
             "the overlap correction was applied in {} iterations",
@@ -250,8 +255,13 @@ impl Flow for SphereFlow<'_> {
             Some(_) => self.diffusion_time,
             None => h,
         };
-        let v = self.diffusion.velocity(x, &m.data, diffusion_time)?;
+        let mut direction = m.data.direction.borrow_mut();
+        if self.dt.is_some() || direction.is_none() {
+            *direction = Some(self.diffusion.velocity(x, &m.data, diffusion_time)?);
+        }
+        let v = direction.as_deref().unwrap_or_default();
         let step: Vec<[f64; 3]> = v.iter().map(|s| s.map(|c| c * h)).collect();
+        drop(direction);
         let mut moved = x.clone();
         let outcome = advance(&mut moved, &step, self.faces, &self.corrector);
         self.corrected += outcome.corrected as usize;
