@@ -1,9 +1,11 @@
 //! Benchmarks of the finite-element operators and the sparse Cholesky factorization on a
 //! generated grid. They reach the library's internals, so they need its `internals` feature:
-//! `cargo bench -p demkit --features internals --bench operators`.
+//! `cargo bench -p demkit --features internals --bench operators`. With `DEMKIT_DATA` set, the
+//! refactorization of SDEM's diffusion operator on `genus0/brain.obj` too: the unit that SDEM's
+//! time per iteration is compared with (README, *Performance*).
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use demkit::fem::cotangent_weights;
+use demkit::fem::{DiffusionOperator, cotangent_weights};
 use demkit::generate::square_grid;
 use demkit::linalg::{SparseCholesky, StiffnessPattern};
 use std::hint::black_box;
@@ -25,6 +27,36 @@ fn operators(c: &mut Criterion) {
     pattern.assemble(&w, &mass, &mut values);
     c.bench_function("numeric Cholesky 90k vertices", |b| {
         b.iter(|| chol.factor(black_box(&values)).unwrap())
+    });
+    brain_refactorization(c);
+}
+
+/// One numeric refactorization of `A + 4π L` (SDEM's first step) on the brain's spherical
+/// conformal map, when `DEMKIT_DATA` holds `genus0/brain.obj`.
+fn brain_refactorization(c: &mut Criterion) {
+    let Some(root) = std::env::var_os("DEMKIT_DATA") else {
+        return;
+    };
+    let path = std::path::Path::new(&root).join("genus0/brain.obj");
+    let Ok(mesh) = demkit::io::read_mesh(&path) else {
+        return;
+    };
+    let mut notes = Vec::new();
+    let sphere = demkit::init::spherical_conformal::spherical_conformal_map(
+        &mesh.positions,
+        &mesh.faces,
+        &mut notes,
+    )
+    .unwrap();
+    let areas = demkit::geometry::face_areas(&sphere, &mesh.faces);
+    let op = DiffusionOperator::new(sphere.len(), &mesh.faces).unwrap();
+    c.bench_function("refactor A + 4πL, brain (48k vertices)", |b| {
+        b.iter(|| {
+            drop(
+                op.factor(black_box(&sphere), &areas, 4.0 * std::f64::consts::PI, &[])
+                    .unwrap(),
+            );
+        })
     });
 }
 

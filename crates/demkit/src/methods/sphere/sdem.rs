@@ -8,15 +8,18 @@
 //!    density to the moved map (3.22) — until sd(ρ_V)/mean(ρ_V) < ε.
 //!
 //! The step (`Config::dt`):
-//! - **adaptive** (the default): the shared iteration's adaptive step
-//!   ([`crate::methods::iteration`]), where a step of length h diffuses the density for the time
+//! - **adaptive** (the default): the shared iteration's adaptive step with a search along each
+//!   direction (`Step::Search`), where a step of length h diffuses the density for the time
 //!   h and moves the map by h·v. A long step cancels every density mode at once (a mode of
 //!   eigenvalue λ of the Laplacian moves by hλ/(1 + hλ) of the way), so the iteration is a
-//!   Newton-like one on the density. The first and longest step is the sphere's area 4π, the
-//!   (4.39) bound at uniform density; a move that does not lower the merit is undone and the
-//!   step halved. Maps are compared by the face misfit mean |log((A/ΣA)/(P/ΣP))|, which sees
-//!   every face (ρ_V averages them at the vertices), and the run stops as stationary when the
-//!   best misfit improved by less than 2% over 10 iterations.
+//!   Newton-like one on the density. The first try along each direction is at most the
+//!   sphere's area 4π, the (4.39) bound at uniform density; a move that does not lower the
+//!   merit is retried at half the length along the same velocity, one that does is tried up to
+//!   three times twice as long. Maps are compared by the face misfit mean
+//!   |log((A/ΣA)/(P/ΣP))|, which sees every face (ρ_V averages them at the vertices), and the
+//!   run stops as stationary when the best misfit improved by less than 2% over 10 iterations.
+//!   The diffusion operator is factored again only when the map's face areas have drifted
+//!   (`fem::REFACTOR_DRIFT`).
 //! - **fixed** δt (the paper's 0.1): every move kept. When a step had to be shortened to a
 //!   fraction τ to stay bijective (`sphere_overlap`), the next velocity is taken from the
 //!   density diffused for δt/τ instead of δt (doubling while the steps stay shorter than δt/8,
@@ -140,6 +143,7 @@ pub fn run_from(
         faces,
         dt: config.dt,
         diffusion_time: config.dt.unwrap_or(0.0),
+        moves: 0,
         corrected: 0,
     };
     let mut rules = Rules {
@@ -199,8 +203,9 @@ fn finish(
     ));
     if flow.corrected > 0 {
         notes.push(format!(
-            "the overlap correction was applied in {} iterations",
-            flow.corrected
+            "the overlap correction was applied in {} of {} moves (a search tries several \
+             moves per iteration)",
+            flow.corrected, flow.moves
         ));
     }
     let positions = |x: Vec<[f64; 3]>| x.into_iter().map(normalize).collect();
@@ -217,7 +222,8 @@ struct SphereFlow<'a> {
     /// With a fixed step, the time the density is diffused for before its velocity is taken
     /// (see the module docs): δt, longer after shortened steps.
     diffusion_time: f64,
-    /// Iterations in which the overlap correction was applied.
+    /// Moves tried, and those in which the overlap correction was applied.
+    moves: usize,
     corrected: usize,
 }
 
@@ -264,6 +270,7 @@ impl Flow for SphereFlow<'_> {
         drop(direction);
         let mut moved = x.clone();
         let outcome = advance(&mut moved, &step, self.faces, &self.corrector);
+        self.moves += 1;
         self.corrected += outcome.corrected as usize;
         let Some(dt) = self.dt else {
             return Ok(Moved {
