@@ -452,6 +452,15 @@ pub(crate) fn iterate<F: Flow>(
 mod tests {
     use super::*;
 
+    /// The measure of the scalar test flows: stopping quantity and merit |x − 1|.
+    fn distance_to_one(x: f64) -> Measured<()> {
+        Measured {
+            error: (x - 1.0).abs(),
+            merit: (x - 1.0).abs(),
+            data: (),
+        }
+    }
+
     /// A scalar "map" x > 0 whose stopping quantity is |x − 1| (and so is its merit): the flow
     /// moves it towards 1 by the fraction `h` of the distance, overshooting when `h > 1`.
     struct Toward {
@@ -463,11 +472,7 @@ mod tests {
         type Map = f64;
         type Data = ();
         fn measure(&mut self, x: &f64) -> Result<Measured<()>> {
-            Ok(Measured {
-                error: (x - 1.0).abs(),
-                merit: (x - 1.0).abs(),
-                data: (),
-            })
+            Ok(distance_to_one(*x))
         }
         fn step_cap(&self, _m: &Measured<()>) -> f64 {
             4.0
@@ -550,11 +555,7 @@ mod tests {
         type Map = f64;
         type Data = ();
         fn measure(&mut self, x: &f64) -> Result<Measured<()>> {
-            Ok(Measured {
-                error: (x - 1.0).abs(),
-                merit: (x - 1.0).abs(),
-                data: (),
-            })
+            Ok(distance_to_one(*x))
         }
         fn step_cap(&self, _m: &Measured<()>) -> f64 {
             self.cap
