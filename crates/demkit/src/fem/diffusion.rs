@@ -9,7 +9,7 @@ use super::{cotangent_weights_into, lumped_mass};
 use crate::linalg::{SparseCholesky, StiffnessPattern};
 use crate::metrics::log_area_misfit;
 use crate::{Error, Result};
-use std::cell::{RefCell, RefMut};
+use std::cell::{Cell, Ref, RefCell, RefMut};
 
 /// How far a map's face areas may drift from those of the map last factored before
 /// [`DiffusionOperator::factor_lazily`] factors again: the mean |ln| of the ratio of the
@@ -25,19 +25,19 @@ pub struct DiffusionOperator {
     cholesky: RefCell<SparseCholesky>,
     weights: RefCell<Vec<[f64; 3]>>,
     values: RefCell<Vec<f64>>,
-    /// What the solver holds, when it was factored by
+    /// The lumped mass of the map the solver was last factored for.
+    mass: RefCell<Vec<f64>>,
+    /// The map the solver holds, when it was factored by
     /// [`factor_lazily`](DiffusionOperator::factor_lazily).
     last: RefCell<Option<Factored>>,
     /// How many numeric factorizations were made.
-    factorizations: std::cell::Cell<usize>,
+    factorizations: Cell<usize>,
 }
 
-/// The map a lazily made factorization was built from: its diffusion time, face areas and
-/// lumped mass.
+/// The map a lazily made factorization was built from: its diffusion time and face areas.
 struct Factored {
     t: f64,
     areas: Vec<f64>,
-    mass: Vec<f64>,
 }
 
 impl std::fmt::Debug for DiffusionOperator {
@@ -54,8 +54,8 @@ impl std::fmt::Debug for DiffusionOperator {
 pub struct DiffusionFactor<'a> {
     /// The operator's solver, factored for `A + t L` (plus any extra diagonal).
     solver: RefMut<'a, SparseCholesky>,
-    /// The lumped mass `A` (4.24) of the positions.
-    pub mass: Vec<f64>,
+    /// The lumped mass `A` (4.24) of the map the factorization was made from.
+    pub mass: Ref<'a, Vec<f64>>,
 }
 
 impl DiffusionFactor<'_> {
@@ -93,8 +93,9 @@ impl DiffusionOperator {
             cholesky,
             weights: RefCell::new(Vec::new()),
             values,
+            mass: RefCell::new(Vec::new()),
             last: RefCell::new(None),
-            factorizations: std::cell::Cell::new(0),
+            factorizations: Cell::new(0),
         })
     }
 
@@ -112,23 +113,19 @@ impl DiffusionOperator {
         t: f64,
         drift: f64,
     ) -> Result<DiffusionFactor<'_>> {
-        {
-            let last = self.last.borrow();
-            if let Some(f) = last.as_ref().filter(|f| {
-                (t / f.t).ln().abs() <= drift && log_area_misfit(&f.areas, areas) <= drift
-            }) {
-                let solver = self.solver()?;
-                return Ok(DiffusionFactor {
-                    solver,
-                    mass: f.mass.clone(),
-                });
-            }
+        let held = self.last.borrow().as_ref().is_some_and(|f| {
+            (t / f.t).ln().abs() <= drift && log_area_misfit(&f.areas, areas) <= drift
+        });
+        if held {
+            return Ok(DiffusionFactor {
+                solver: self.solver()?,
+                mass: self.mass.borrow(),
+            });
         }
         let factor = self.factor(positions, areas, t, &[])?;
         *self.last.borrow_mut() = Some(Factored {
             t,
             areas: areas.to_vec(),
-            mass: factor.mass.clone(),
         });
         Ok(factor)
     }
@@ -188,9 +185,13 @@ impl DiffusionOperator {
             .assemble(scaled_weights, &diagonal, &mut values);
         let mut solver = self.solver()?;
         *self.last.borrow_mut() = None;
+        *self.mass.borrow_mut() = mass;
         self.factorizations.set(self.factorizations.get() + 1);
         solver.factor(&values)?;
-        Ok(DiffusionFactor { solver, mass })
+        Ok(DiffusionFactor {
+            solver,
+            mass: self.mass.borrow(),
+        })
     }
 
     /// The solver, unless a factor still holds it.
@@ -221,7 +222,7 @@ mod tests {
         let mut peak = vec![1.0; pos.len()];
         peak[20] = 10.0;
         let out = f.diffuse(&peak).unwrap();
-        let total = |r: &[f64]| r.iter().zip(&f.mass).map(|(a, b)| a * b).sum::<f64>();
+        let total = |r: &[f64]| r.iter().zip(f.mass.iter()).map(|(a, b)| a * b).sum::<f64>();
         assert!((total(&out) - total(&peak)).abs() < 1e-12);
         assert!(out[20] < 10.0 && out[20] > 1.0);
     }

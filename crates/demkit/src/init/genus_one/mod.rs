@@ -287,13 +287,10 @@ fn area_distortion(map: &FlatTorusMap, faces: &[[u32; 3]], torus: &Torus, areas:
             triangle_area(p[0], p[1], p[2])
         })
         .collect();
-    let (sa, si) = (areas.iter().sum::<f64>(), image.iter().sum::<f64>());
-    let total: f64 = areas
-        .iter()
-        .zip(&image)
-        .map(|(a, i)| ((a / sa) / (i / si)).ln().abs())
-        .sum();
-    total / faces.len().max(1) as f64
+    if faces.is_empty() {
+        return 0.0;
+    }
+    crate::metrics::log_area_misfit(&image, areas)
 }
 
 /// Checks that `mesh` is one connected closed surface of genus 1 that passes

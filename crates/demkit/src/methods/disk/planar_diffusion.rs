@@ -15,6 +15,7 @@ use crate::methods::iteration::{
     Flow, Keep, Measured, Moved, Rules, Stationary, Step, diffusion_time_step, iterate,
 };
 use crate::methods::{Progress, StopReason};
+use crate::metrics::log_area_misfit;
 use crate::metrics::normalized_variance;
 use crate::shape::Shape;
 use rayon::prelude::*;
@@ -153,7 +154,6 @@ struct PlanarFlow<'p, 'a> {
     incidence_all: VertexFaces,
     diffusion: DiffusionOperator,
     grad_f: Vec<[f64; 3]>,
-    total_population: f64,
     /// How often the bound on the diffusion time has been refined ([`Flow::refine`]).
     level: u32,
 }
@@ -177,13 +177,7 @@ impl Flow for PlanarFlow<'_, '_> {
         let rho_v = self.incidence.average(&rho_f);
         let sd_over_mean = normalized_variance(&rho_v[..nv]).sqrt();
         let roi_area: f64 = areas[..nf].iter().sum();
-        // Terms computed in parallel, summed in face order: the same merit whatever the threads.
-        let misfit: Vec<f64> = p.population[..nf]
-            .par_iter()
-            .zip(&areas[..nf])
-            .map(|(p, a)| ((a / roi_area) / (p / self.total_population)).ln().abs())
-            .collect();
-        let merit = misfit.iter().sum::<f64>() / nf as f64;
+        let merit = log_area_misfit(&p.population[..nf], &areas[..nf]);
         Ok(Measured {
             error: sd_over_mean,
             merit,
@@ -332,7 +326,6 @@ pub(crate) fn run(
         incidence_all: VertexFaces::new(n, faces),
         diffusion: DiffusionOperator::new(n, faces)?,
         grad_f: Vec::new(),
-        total_population: problem.population[..nf].iter().sum(),
         level: 0,
     };
     let rules = Rules {

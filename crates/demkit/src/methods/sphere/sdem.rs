@@ -109,7 +109,7 @@ pub fn run(
         )));
     }
     let time_init = t0.elapsed().as_secs_f64();
-    let mut result = run_from(mesh, population, initial, config, progress)?;
+    let mut result = equalize(mesh, population, initial, config, progress)?;
     result.time_init = time_init;
     notes.append(&mut result.notes);
     result.notes = notes;
@@ -134,6 +134,17 @@ pub fn run_from(
             "the initial spherical map must have one point per vertex and no flipped face".into(),
         ));
     }
+    equalize(mesh, population, initial, config, progress)
+}
+
+/// Algorithm 3.1 from `initial`, the inputs already checked by [`run`] or [`run_from`].
+fn equalize(
+    mesh: &TriMesh,
+    population: &[f64],
+    initial: Vec<[f64; 3]>,
+    config: &Config,
+    progress: ProgressFn,
+) -> Result<MapResult> {
     let mut notes = Vec::new();
     let t1 = Instant::now();
     let faces = &mesh.faces;
@@ -319,6 +330,19 @@ mod tests {
         .unwrap()
     }
 
+    /// The population `area · density(centroid)` of every face of `mesh`.
+    fn area_times(mesh: &TriMesh, density: impl Fn([f64; 3]) -> f64) -> Vec<f64> {
+        let area = face_areas(&mesh.positions, &mesh.faces);
+        mesh.faces
+            .iter()
+            .zip(&area)
+            .map(|(f, a)| {
+                let p = f.map(|v| mesh.positions[v as usize]);
+                a * density(std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k]) / 3.0))
+            })
+            .collect()
+    }
+
     #[test]
     fn equal_density_stops_at_once() {
         // The icosphere onto itself with its own face areas as population: ρ is exactly 1.
@@ -336,20 +360,7 @@ mod tests {
     fn smooth_tenfold_population_is_equalized() {
         // Density varying smoothly by a factor 10 from the south to the north pole.
         let mesh = icosphere(4).unwrap();
-        let area = face_areas(&mesh.positions, &mesh.faces);
-        let pop: Vec<f64> = mesh
-            .faces
-            .iter()
-            .zip(&area)
-            .map(|(f, a)| {
-                let z = f
-                    .iter()
-                    .map(|&v| mesh.positions[v as usize][2])
-                    .sum::<f64>()
-                    / 3.0;
-                a * (1.0 + 4.5 * (z + 1.0))
-            })
-            .collect();
+        let pop = area_times(&mesh, |c| 1.0 + 4.5 * (c[2] + 1.0));
         let r = run(&mesh, &pop, &Config::default(), &mut |_| {}).unwrap();
         assert!(r.converged);
         let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Sphere, None);
@@ -369,13 +380,7 @@ mod tests {
     #[test]
     fn the_papers_fixed_step_equalizes_too() {
         let mesh = icosphere(3).unwrap();
-        let area = face_areas(&mesh.positions, &mesh.faces);
-        let pop: Vec<f64> = mesh
-            .faces
-            .iter()
-            .zip(&area)
-            .map(|(f, a)| a * (2.0 + mesh.positions[f[0] as usize][0]))
-            .collect();
+        let pop = area_times(&mesh, |c| 2.0 + c[0]);
         let fixed = Config {
             dt: Some(0.1),
             ..Config::default()
