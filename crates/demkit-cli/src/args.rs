@@ -445,23 +445,27 @@ pub enum GenerateKind {
     },
 }
 
-/// `demkit subdivide MESH --out OUT [--levels N] [--population FILE --population-out FILE]`
+/// `demkit subdivide MESH --out OUT [--levels N] [--parts K] [--population FILE --population-out FILE]`
 #[derive(Args, Debug)]
 #[command(allow_negative_numbers = true)]
 pub struct SubdivideArgs {
     /// The input mesh (.obj, .ply, .off, .stl).
     pub mesh: PathBuf,
-    /// Output mesh (.obj or .ply): the input vertices first, then the edge midpoints; face f
-    /// becomes faces 4^N·f to 4^N·(f+1) − 1.
+    /// Output mesh (.obj or .ply): the input vertices first, then the points on the edges,
+    /// then those inside the faces; face f becomes faces M·f to M·(f+1) − 1, M = (K²)^N.
     #[arg(long)]
     pub out: PathBuf,
-    /// How many times every triangle is split into four (N rounds: 4^N times the faces).
+    /// How many rounds of subdivision (N rounds: (K²)^N times the faces).
     #[arg(long, default_value_t = 1)]
     pub levels: usize,
+    /// Into how many equal parts every edge is cut in a round (K: every triangle becomes K²;
+    /// 2 is midpoint subdivision).
+    #[arg(long, default_value_t = 2)]
+    pub parts: usize,
     /// A population file of the input (one value per face), to split among the new faces.
     #[arg(long, value_name = "FILE", requires = "population_out")]
     pub population: Option<PathBuf>,
-    /// Where the split population goes: every input value divided equally among its 4^N
+    /// Where the split population goes: every input value divided equally among its (K²)^N
     /// faces, one value per line.
     #[arg(long, value_name = "FILE", requires = "population")]
     pub population_out: Option<PathBuf>,

@@ -358,7 +358,7 @@ fn prepare(exe: &Path, dir: &Path, case: &Case, data: Option<&Path>) -> Result<I
     };
     let name = match case.source {
         Source::Generated(_) => "",
-        Source::Data(name) | Source::Subdivided(name, _) => name,
+        Source::Data(name) | Source::Subdivided(name, _, _) => name,
     };
     let mut population: Option<OsString> = match case.population {
         Population::Area => None,
@@ -375,13 +375,15 @@ fn prepare(exe: &Path, dir: &Path, case: &Case, data: Option<&Path>) -> Result<I
             out
         }
         Source::Data(_) => in_data(format!("{name}.obj"))?,
-        Source::Subdivided(_, levels) => {
+        Source::Subdivided(_, levels, parts) => {
             let out = dir.join("mesh.ply");
             let mut all: Vec<OsString> = vec![
                 "subdivide".into(),
                 in_data(format!("{name}.obj"))?.into(),
                 "--levels".into(),
                 levels.to_string().into(),
+                "--parts".into(),
+                parts.to_string().into(),
                 "--out".into(),
                 out.clone().into(),
                 "--quiet".into(),

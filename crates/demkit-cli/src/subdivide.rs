@@ -1,14 +1,15 @@
-//! `demkit subdivide`: midpoint subdivision of a mesh ([`demkit::mesh::subdivide`]) and of its
-//! population file, to make a finer mesh of the same surface (the scale cases of `demkit bench`).
+//! `demkit subdivide`: regular subdivision of a mesh ([`demkit::mesh::subdivide_parts`]; midpoint
+//! subdivision by default) and of its population file, to make a finer mesh of the same surface (the scale cases of `demkit bench`).
 
 use crate::Failure;
 use crate::args::SubdivideArgs;
 use crate::paths::{check, given, named};
-use demkit::mesh::{split_population, subdivide_levels};
+use demkit::mesh::{split_population_parts, subdivide_parts};
 use demkit::population::{check_population, read_face_values};
 use std::fmt::Write;
 
-/// Subdivides the mesh `--levels` times and writes it (and the split population) out.
+/// Subdivides the mesh `--levels` times in `--parts` and writes it (and the split population)
+/// out.
 pub fn run(a: &SubdivideArgs) -> Result<u8, Failure> {
     crate::map::check_output_extension(&a.out)?;
     let mut inputs = vec![named("MESH", &a.mesh)];
@@ -32,11 +33,11 @@ pub fn run(a: &SubdivideArgs) -> Result<u8, Failure> {
         Some(path) => {
             let values = read_face_values(path, mesh.n_faces(), "population file")?;
             check_population(&values, mesh.n_faces())?;
-            Some(split_population(&values, a.levels)?)
+            Some(split_population_parts(&values, a.parts, a.levels)?)
         }
         None => None,
     };
-    let fine = subdivide_levels(&mesh, a.levels)?;
+    let fine = subdivide_parts(&mesh, a.parts, a.levels)?;
     demkit::io::write_mesh(&a.out, &fine)?;
     if let (Some(values), Some(path)) = (population, &a.population_out) {
         demkit::io::write_bytes_atomically(path, population_text(&values).as_bytes())
@@ -44,13 +45,14 @@ pub fn run(a: &SubdivideArgs) -> Result<u8, Failure> {
     }
     if !a.quiet {
         eprintln!(
-            "{} vertices, {} faces -> {} vertices, {} faces ({} level{})",
+            "{} vertices, {} faces -> {} vertices, {} faces ({} level{} in {} parts)",
             mesh.n_vertices(),
             mesh.n_faces(),
             fine.n_vertices(),
             fine.n_faces(),
             a.levels,
-            if a.levels == 1 { "" } else { "s" }
+            if a.levels == 1 { "" } else { "s" },
+            a.parts
         );
     }
     Ok(0)

@@ -16,7 +16,7 @@ fn a_torus_subdivided_twice_has_the_counts_and_topology_of_midpoint_subdivision(
     let out = s.ok(&["subdivide", "t.obj", "--levels", "2", "--out", "s.obj"]);
     assert!(
         out.stderr
-            .contains("32 vertices, 64 faces -> 512 vertices, 1024 faces (2 levels)"),
+            .contains("32 vertices, 64 faces -> 512 vertices, 1024 faces (2 levels in 2 parts)"),
         "{}",
         out.stderr
     );
@@ -31,6 +31,44 @@ fn a_torus_subdivided_twice_has_the_counts_and_topology_of_midpoint_subdivision(
     assert_eq!(i["genus"], 1);
     assert_eq!(i["boundaries"], 0);
     assert_eq!(i["errors"].as_array().map(Vec::len), Some(0));
+}
+
+#[test]
+fn a_torus_in_three_parts_has_the_lattice_counts_and_its_population_in_nine_parts() {
+    let s = Scratch::new("subdivide-parts");
+    s.generate(&["torus", "--major", "8", "--minor", "4", "--out", "t.obj"]);
+    s.write("t.txt", &"9\n".repeat(64));
+    let out = s.ok(&[
+        "subdivide",
+        "t.obj",
+        "--parts",
+        "3",
+        "--out",
+        "s.obj",
+        "--population",
+        "t.txt",
+        "--population-out",
+        "s.txt",
+    ]);
+    // V + 2E + F = 32 + 192 + 64; 9 F faces.
+    assert!(
+        out.stderr
+            .contains("32 vertices, 64 faces -> 288 vertices, 576 faces (1 level in 3 parts)"),
+        "{}",
+        out.stderr
+    );
+    let values: Vec<f64> = s
+        .read("s.txt")
+        .lines()
+        .map(|l| l.parse().unwrap())
+        .collect();
+    assert_eq!(values.len(), 576);
+    assert!(values.iter().all(|&v| (v - 1.0).abs() < 1e-15));
+    assert_eq!(info(&s, "s.obj")["genus"], 1);
+    let line = s
+        .run(&["subdivide", "t.obj", "--parts", "0", "--out", "z.obj"])
+        .input_error();
+    assert!(line.contains("parts must be at least 1"), "{line}");
 }
 
 #[test]

@@ -10,9 +10,9 @@ pub enum Source {
     Generated(&'static [&'static str]),
     /// `DATA/NAME.obj`.
     Data(&'static str),
-    /// `DATA/NAME.obj` after `demkit subdivide --levels N` (and its population file, if the case
-    /// uses one, split likewise).
-    Subdivided(&'static str, usize),
+    /// `DATA/NAME.obj` after `demkit subdivide --levels N --parts K` (and its population file,
+    /// if the case uses one, split likewise).
+    Subdivided(&'static str, usize, usize),
 }
 
 /// A case's population.
@@ -129,10 +129,21 @@ fn data(name: &'static str, method: &'static str, population: Population) -> Cas
 }
 
 fn subdivided(name: &'static str, mesh: &'static str, levels: usize, method: &'static str) -> Case {
+    split(name, mesh, levels, 2, method)
+}
+
+/// `mesh` subdivided `levels` times with every edge cut in `parts`.
+fn split(
+    name: &'static str,
+    mesh: &'static str,
+    levels: usize,
+    parts: usize,
+    method: &'static str,
+) -> Case {
     let mut case = data(mesh, method, Population::Area);
     case.name = name;
     case.suite = Suite::Scale;
-    case.source = Source::Subdivided(mesh, levels);
+    case.source = Source::Subdivided(mesh, levels, parts);
     case.ladder = mesh;
     case
 }
@@ -215,6 +226,8 @@ pub fn suite(data_given: bool, scale: bool) -> Vec<Case> {
             subdivided("scale/brain-sub2", "genus0/brain", 2, "sdem"),
             subdivided("scale/human_face-sub1", "open/human_face", 1, "dem"),
             subdivided("scale/human_face-sub2", "open/human_face", 2, "dem"),
+            // 36 times the faces: 1.23 million, the million-face disk.
+            split("scale/human_face-parts6", "open/human_face", 1, 6, "dem"),
             Case {
                 population: DataFile,
                 ..subdivided("scale/torus_1-sub3", "genus1/torus_1", 3, "tdem")
@@ -229,7 +242,7 @@ impl Case {
     fn data_name(&self) -> Option<&'static str> {
         match self.source {
             Source::Generated(_) => None,
-            Source::Data(name) | Source::Subdivided(name, _) => Some(name),
+            Source::Data(name) | Source::Subdivided(name, _, _) => Some(name),
         }
     }
 
@@ -253,7 +266,10 @@ impl Case {
         match self.source {
             Source::Generated(args) => format!("generate {}", args.join(" ")),
             Source::Data(name) => format!("{name}.obj"),
-            Source::Subdivided(name, levels) => format!("{name}.obj subdivided {levels}x"),
+            Source::Subdivided(name, levels, 2) => format!("{name}.obj subdivided {levels}x"),
+            Source::Subdivided(name, levels, parts) => {
+                format!("{name}.obj subdivided {levels}x in {parts} parts")
+            }
         }
     }
 
@@ -326,6 +342,10 @@ mod tests {
         assert_eq!(
             case("scale/brain-sub2").mesh_description(),
             "genus0/brain.obj subdivided 2x"
+        );
+        assert_eq!(
+            case("scale/human_face-parts6").mesh_description(),
+            "open/human_face.obj subdivided 1x in 6 parts"
         );
         let torus = case("scale/torus_1-sub3");
         assert_eq!(torus.data_files(), case("genus1/torus_1").data_files());

@@ -6,7 +6,7 @@
 //! even that while the map has barely changed since the last factorization.
 
 use super::{cotangent_weights_into, lumped_mass};
-use crate::linalg::{SparseCholesky, StiffnessPattern};
+use crate::linalg::{SparseCholesky, StiffnessPattern, VertexOrder};
 use crate::metrics::log_area_misfit;
 use crate::{Error, Result};
 use std::cell::{Cell, Ref, RefCell, RefMut};
@@ -84,8 +84,18 @@ impl DiffusionFactor<'_> {
 impl DiffusionOperator {
     /// Analyses the sparsity pattern of `faces` on `n_vertices` vertices (no fixed vertices).
     pub fn new(n_vertices: usize, faces: &[[u32; 3]]) -> Result<Self> {
+        Self::in_order(n_vertices, faces, None)
+    }
+
+    /// As [`new`](Self::new), eliminating the vertices in the connectivity's `order` when one
+    /// is given ([`VertexOrder`]).
+    pub fn in_order(
+        n_vertices: usize,
+        faces: &[[u32; 3]],
+        order: Option<&VertexOrder>,
+    ) -> Result<Self> {
         let pattern = StiffnessPattern::new(n_vertices, faces, None);
-        let cholesky = RefCell::new(SparseCholesky::for_stiffness(&pattern)?);
+        let cholesky = RefCell::new(SparseCholesky::for_stiffness_in(&pattern, order)?);
         let values = RefCell::new(vec![0.0; pattern.nnz()]);
         Ok(Self {
             faces: faces.to_vec(),

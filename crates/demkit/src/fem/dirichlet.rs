@@ -6,7 +6,7 @@
 //! symbolic Cholesky analysis are computed once; each solve refactors numerically.
 
 use crate::Result;
-use crate::linalg::{SparseCholesky, StiffnessPattern};
+use crate::linalg::{SparseCholesky, StiffnessPattern, VertexOrder};
 use std::cell::RefCell;
 
 /// A symmetric weighted Laplacian restricted to the free vertices of one connectivity.
@@ -27,8 +27,19 @@ impl DirichletSystem {
     /// `fixed[v]` holds as Dirichlet vertices (at least one per connected component of the
     /// free vertices). Vertices no face uses must be fixed.
     pub fn new(n_vertices: usize, faces: &[[u32; 3]], fixed: &[bool]) -> Result<Self> {
+        Self::in_order(n_vertices, faces, fixed, None)
+    }
+
+    /// As [`new`](Self::new), eliminating the free vertices in the connectivity's `order`
+    /// when one is given ([`VertexOrder`]).
+    pub fn in_order(
+        n_vertices: usize,
+        faces: &[[u32; 3]],
+        fixed: &[bool],
+        order: Option<&VertexOrder>,
+    ) -> Result<Self> {
         let pattern = StiffnessPattern::new(n_vertices, faces, Some(fixed));
-        let cholesky = RefCell::new(SparseCholesky::for_stiffness(&pattern)?);
+        let cholesky = RefCell::new(SparseCholesky::for_stiffness_in(&pattern, order)?);
         Ok(Self {
             fixed: fixed.to_vec(),
             pattern,

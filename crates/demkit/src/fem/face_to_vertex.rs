@@ -54,6 +54,19 @@ impl VertexFaces {
             .collect()
     }
 
+    /// The sum of a face function over each vertex's faces: `s(v) = Σ_T f(T)`.
+    pub fn sum(&self, face_values: &[f64]) -> Vec<f64> {
+        (0..self.n_vertices())
+            .into_par_iter()
+            .map(|v| {
+                self.faces_of(v)
+                    .iter()
+                    .map(|&f| face_values[f as usize])
+                    .sum()
+            })
+            .collect()
+    }
+
     /// The plain average of a face function over each vertex's faces, the Whitney
     /// interpolation (4.27): `f(v) = Σ_T f(T) / |N(v)|`. Vertices without faces get 0.
     pub fn average(&self, face_values: &[f64]) -> Vec<f64> {
@@ -102,6 +115,25 @@ mod tests {
         let w = VertexFaces::new(4, &faces);
         let r = w.average(&[2.0, 6.0]);
         assert_eq!(r, vec![4.0, 2.0, 4.0, 6.0]);
+    }
+
+    #[test]
+    fn sums_over_the_faces_of_each_vertex() {
+        let faces = [[0u32, 1, 2], [0, 2, 3]];
+        let w = VertexFaces::new(5, &faces);
+        assert_eq!(w.sum(&[2.0, 6.0]), vec![8.0, 2.0, 8.0, 6.0, 0.0]);
+        // The area-weighted average of P/A is the ratio of the sums of P and of A.
+        let (a, p) = ([1.5, 0.5], [3.0, 4.0]);
+        let ratio: Vec<f64> = w
+            .sum(&p)
+            .iter()
+            .zip(w.sum(&a))
+            .map(|(p, a)| p / a)
+            .collect();
+        let avg = w.apply(&a, &[p[0] / a[0], p[1] / a[1]]);
+        for v in 0..4 {
+            assert!((ratio[v] - avg[v]).abs() < 1e-15, "{ratio:?} {avg:?}");
+        }
     }
 
     #[test]

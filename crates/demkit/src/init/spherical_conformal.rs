@@ -17,7 +17,7 @@
 use crate::fem::cotangent_weights;
 use crate::geometry::sphere::{project_from_south, unproject_from_north, unproject_from_south};
 use crate::geometry::{local_frame, norm, sub};
-use crate::linalg::{SparseCholesky, StiffnessPattern};
+use crate::linalg::{SparseCholesky, StiffnessPattern, VertexOrder};
 use crate::qc::{LinearBeltramiSolver, triangle_beltrami, truncate};
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -58,19 +58,37 @@ pub fn spherical_conformal_map(
     faces: &[[u32; 3]],
     notes: &mut Vec<String>,
 ) -> Result<Vec<[f64; 3]>> {
-    let n = positions.len();
-    if n < 4 || faces.len() < 4 {
+    check_size(positions.len(), faces.len())?;
+    let order = VertexOrder::of_mesh(positions.len(), faces)?;
+    spherical_conformal_map_in_order(positions, faces, &order, notes)
+}
+
+/// The smallest closed surface has 4 vertices and 4 faces.
+fn check_size(n_vertices: usize, n_faces: usize) -> Result<()> {
+    if n_vertices < 4 || n_faces < 4 {
         return Err(Error::InvalidMesh(
             "a closed surface needs at least 4 vertices and 4 faces".into(),
         ));
     }
+    Ok(())
+}
+
+/// [`spherical_conformal_map`] with the connectivity's elimination `order` computed by the
+/// caller, who solves other systems on the same connectivity ([`VertexOrder`]).
+pub fn spherical_conformal_map_in_order(
+    positions: &[[f64; 3]],
+    faces: &[[u32; 3]],
+    order: &VertexOrder,
+    notes: &mut Vec<String>,
+) -> Result<Vec<[f64; 3]>> {
+    check_size(positions.len(), faces.len())?;
     // Step 1: puncture the most regular face.
     let reg = face_regularity(positions, faces);
     let big = (0..faces.len())
         .min_by(|&a, &b| reg[a].total_cmp(&reg[b]))
         .unwrap_or(0);
     for positive in [false, true] {
-        let Some(plane) = punctured_plane_map(positions, faces, big, positive)? else {
+        let Some(plane) = punctured_plane_map(positions, faces, big, positive, order)? else {
             continue;
         };
         if positive {
@@ -84,7 +102,7 @@ pub fn spherical_conformal_map(
         // south-pole step, which sees that region in the middle of its plane, repairs it.
         let sphere = plane_to_sphere(&plane, faces, big);
         // Step 3: south-pole quasi-conformal correction.
-        if let Ok(s) = south_pole_correction(positions, faces, &sphere)
+        if let Ok(s) = south_pole_correction(positions, faces, &sphere, order)
             && count_spherical_flips(&s, faces) == 0
         {
             return Ok(s);
@@ -108,6 +126,7 @@ fn punctured_plane_map(
     faces: &[[u32; 3]],
     big: usize,
     positive: bool,
+    order: &VertexOrder,
 ) -> Result<Option<Vec<[f64; 3]>>> {
     let n = positions.len();
     let bf = faces[big];
@@ -128,7 +147,7 @@ fn punctured_plane_map(
         }
     }
     let pattern = StiffnessPattern::new(n, faces, Some(&fixed));
-    let mut chol = SparseCholesky::for_stiffness(&pattern)?;
+    let mut chol = SparseCholesky::for_stiffness_in(&pattern, Some(order))?;
     let mut values = vec![0.0; pattern.nnz()];
     pattern.assemble(&w, &[], &mut values);
     if let Err(e) = chol.factor(&values) {
@@ -210,14 +229,15 @@ fn south_pole_correction(
     positions: &[[f64; 3]],
     faces: &[[u32; 3]],
     sphere: &[[f64; 3]],
+    order: &VertexOrder,
 ) -> Result<Vec<[f64; 3]>> {
     let n = sphere.len();
     let p: Vec<[f64; 3]> = sphere.iter().map(|&x| project_from_south(x)).collect();
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&a, &b| sphere[a][2].total_cmp(&sphere[b][2]));
+    let mut by_height: Vec<usize> = (0..n).collect();
+    by_height.sort_by(|&a, &b| sphere[a][2].total_cmp(&sphere[b][2]));
     let n_fixed = (n / 10).max(3).min(n - 1);
     let mut fixed = vec![false; n];
-    for &v in &order[..n_fixed] {
+    for &v in &by_height[..n_fixed] {
         fixed[v] = true;
     }
     // μ of the map from the projected sphere to the surface, per face.
@@ -229,7 +249,7 @@ fn south_pole_correction(
             truncate(triangle_beltrami(s, t), 0.1)
         })
         .collect();
-    let lbs = LinearBeltramiSolver::new(n, faces, &fixed)?;
+    let lbs = LinearBeltramiSolver::in_order(n, faces, &fixed, Some(order))?;
     let q = lbs.solve(&p, &mu, &p)?;
     if q.iter().any(|x| !x[0].is_finite() || !x[1].is_finite()) {
         return Err(Error::Numerical("south-pole correction diverged".into()));

@@ -187,7 +187,23 @@ impl SparseCholesky {
 
     /// The solver for a [`StiffnessPattern`]'s structure.
     pub fn for_stiffness(pattern: &StiffnessPattern) -> Result<Self> {
-        Self::new(pattern.n_unknowns(), pattern.col_ptr(), pattern.row_idx())
+        Self::for_stiffness_in(pattern, None)
+    }
+
+    /// The solver for a [`StiffnessPattern`]'s structure, eliminating its unknowns in the
+    /// mesh's vertex `order` when one is given (computed once for the connectivity), else in
+    /// a minimum degree order of its own.
+    pub fn for_stiffness_in(
+        pattern: &StiffnessPattern,
+        order: Option<&super::VertexOrder>,
+    ) -> Result<Self> {
+        let order = order.map(|o| o.restricted_to(pattern));
+        Self::with_ordering(
+            pattern.n_unknowns(),
+            pattern.col_ptr(),
+            pattern.row_idx(),
+            order.as_deref(),
+        )
     }
 
     /// Numeric factorization of the matrix with `values` on the pattern given to

@@ -12,10 +12,12 @@ mod cholesky;
 mod dense;
 mod element;
 mod lu;
+mod order;
 mod pattern;
 
 pub use cholesky::{SparseCholesky, minimum_degree_order};
 pub use dense::solve_dense;
 pub use element::{ElementPattern, packed_index};
 pub use lu::solve_lu;
+pub use order::VertexOrder;
 pub use pattern::StiffnessPattern;

@@ -10,7 +10,9 @@ pub(crate) mod union_find;
 pub mod validate;
 pub mod weld;
 
-pub use subdivide::{split_population, subdivide, subdivide_levels};
+pub use subdivide::{
+    split_population, split_population_parts, subdivide, subdivide_levels, subdivide_parts,
+};
 pub use topology::{Topology, connected_components, edges, topology, vertex_faces};
 pub use validate::{Findings, check, validate};
 pub use weld::weld;

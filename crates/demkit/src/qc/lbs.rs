@@ -87,9 +87,20 @@ impl LinearBeltramiSolver {
     /// Prepares the solver for meshes with this connectivity and these fixed vertices
     /// (at least one vertex must be fixed, two for a unique planar map).
     pub fn new(n_vertices: usize, faces: &[[u32; 3]], fixed: &[bool]) -> Result<Self> {
+        Self::in_order(n_vertices, faces, fixed, None)
+    }
+
+    /// As [`new`](Self::new), eliminating the free vertices in the connectivity's `order`
+    /// when one is given ([`crate::linalg::VertexOrder`]).
+    pub fn in_order(
+        n_vertices: usize,
+        faces: &[[u32; 3]],
+        fixed: &[bool],
+        order: Option<&crate::linalg::VertexOrder>,
+    ) -> Result<Self> {
         Ok(Self {
             faces: faces.to_vec(),
-            system: DirichletSystem::new(n_vertices, faces, fixed)?,
+            system: DirichletSystem::in_order(n_vertices, faces, fixed, order)?,
         })
     }
 

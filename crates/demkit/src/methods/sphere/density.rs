@@ -6,6 +6,7 @@ use super::overlap::tangential;
 use crate::Result;
 use crate::fem::{DiffusionOperator, REFACTOR_DRIFT, VertexFaces, face_gradient};
 use crate::geometry::face_areas;
+use crate::linalg::VertexOrder;
 use crate::metrics::{log_area_misfit, normalized_variance};
 use rayon::prelude::*;
 
@@ -29,29 +30,42 @@ pub(crate) struct SphereDiffusion<'a> {
     faces: &'a [[u32; 3]],
     population: &'a [f64],
     incidence: VertexFaces,
+    /// Σ P(T) over the faces of each vertex: the numerator of ρ_V ([`Self::measure`]).
+    vertex_population: Vec<f64>,
     operator: DiffusionOperator,
 }
 
 impl<'a> SphereDiffusion<'a> {
-    pub(crate) fn new(n: usize, faces: &'a [[u32; 3]], population: &'a [f64]) -> Result<Self> {
+    /// The operators of `faces` on `n` vertices; `order`: the mesh's elimination order, if the
+    /// caller has one.
+    pub(crate) fn new(
+        n: usize,
+        faces: &'a [[u32; 3]],
+        population: &'a [f64],
+        order: Option<&VertexOrder>,
+    ) -> Result<Self> {
+        let incidence = VertexFaces::new(n, faces);
         Ok(Self {
             faces,
             population,
-            incidence: VertexFaces::new(n, faces),
-            operator: DiffusionOperator::new(n, faces)?,
+            vertex_population: incidence.sum(population),
+            incidence,
+            operator: DiffusionOperator::in_order(n, faces, order)?,
         })
     }
 
-    /// The recoupled density of `map` (3.22), (3.4).
+    /// The recoupled density of `map` (3.22), (3.4). W^FV weighs ρ_F = P/A by the areas, so
+    /// `ρ_V(v) = Σ A(T) P(T)/A(T) / Σ A(T) = Σ P(T) / Σ A(T)` over the faces of v: the
+    /// population sums are the mesh's, and only the area sums change with the map.
     pub(crate) fn measure(&self, map: &[[f64; 3]]) -> Density {
         let areas = face_areas(map, self.faces);
-        let rho_f: Vec<f64> = self
-            .population
-            .par_iter()
-            .zip(areas.par_iter())
-            .map(|(p, a)| p / a)
+        let rho_v: Vec<f64> = self
+            .incidence
+            .sum(&areas)
+            .into_par_iter()
+            .zip(self.vertex_population.par_iter())
+            .map(|(a, p)| if a > 0.0 { p / a } else { 0.0 })
             .collect();
-        let rho_v = self.incidence.apply(&areas, &rho_f);
         let sd_over_mean = normalized_variance(&rho_v).sqrt();
         Density {
             direction: std::cell::RefCell::new(None),

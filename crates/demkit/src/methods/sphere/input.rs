@@ -1,7 +1,8 @@
 //! Input checks and the initial map shared by the spherical methods.
 
 use crate::init::mobius::mobius_area_correction;
-use crate::init::spherical_conformal::spherical_conformal_map;
+use crate::init::spherical_conformal::spherical_conformal_map_in_order;
+use crate::linalg::VertexOrder;
 use crate::mesh::topology::topology;
 use crate::{Error, Result, TriMesh};
 
@@ -41,11 +42,13 @@ pub(crate) fn check_sphere_input(mesh: &TriMesh, population: &[f64], method: &st
 /// Möbius transformation that best matches the map's face areas to `population` (with the
 /// population `area` this is the Möbius area correction; with any other population it starts
 /// the diffusion closer to equal density, and the map stays conformal).
+/// `order` is the mesh's elimination order, shared with the diffusion operator.
 pub(crate) fn initial_sphere_map(
     mesh: &TriMesh,
     population: &[f64],
+    order: &VertexOrder,
     notes: &mut Vec<String>,
 ) -> Result<Vec<[f64; 3]>> {
-    let conformal = spherical_conformal_map(&mesh.positions, &mesh.faces, notes)?;
+    let conformal = spherical_conformal_map_in_order(&mesh.positions, &mesh.faces, order, notes)?;
     Ok(mobius_area_correction(&conformal, &mesh.faces, population).map)
 }

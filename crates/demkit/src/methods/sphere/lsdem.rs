@@ -26,6 +26,7 @@ use super::overlap::{OverlapCorrector, advance, tangential};
 use crate::geometry::rotation::optimal_rotation;
 use crate::geometry::sphere::{mat_vec, normalize};
 use crate::geometry::{norm, sub};
+use crate::linalg::VertexOrder;
 use crate::methods::iteration::{Flow, Keep, Measured, Moved, Rules, check_parameters, iterate};
 use crate::methods::{MapResult, ProgressFn};
 use crate::{Error, Result, TriMesh};
@@ -127,14 +128,15 @@ pub fn run(
     check_landmarks(landmarks, mesh.n_vertices())?;
     let t0 = Instant::now();
     let mut notes = Vec::new();
-    let initial = initial_sphere_map(mesh, population, &mut notes)?;
+    let order = VertexOrder::of_mesh(mesh.n_vertices(), &mesh.faces)?;
+    let initial = initial_sphere_map(mesh, population, &order, &mut notes)?;
     let time_init = t0.elapsed().as_secs_f64();
 
     let t1 = Instant::now();
     let faces = &mesh.faces;
     let targets: Vec<[f64; 3]> = landmarks.iter().map(|l| normalize(l.1)).collect();
     let mut flow = LandmarkFlow {
-        diffusion: SphereDiffusion::new(initial.len(), faces, population)?,
+        diffusion: SphereDiffusion::new(initial.len(), faces, population, Some(&order))?,
         corrector: OverlapCorrector::new(&initial, faces),
         faces,
         landmarks,

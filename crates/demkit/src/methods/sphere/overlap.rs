@@ -32,10 +32,6 @@ pub(crate) struct OverlapCorrector {
     incidence: VertexFaces,
 }
 
-fn count_flips(map: &[[f64; 3]], faces: &[[u32; 3]]) -> usize {
-    crate::init::spherical_conformal::count_spherical_flips(map, faces)
-}
-
 fn flipped_faces(map: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<usize> {
     faces
         .par_iter()
@@ -77,60 +73,90 @@ impl OverlapCorrector {
     }
 
     /// Corrects the flipped faces of `map` (module docs); patches of 3, 6 and 12 rings.
-    /// A correction that does not reduce the number of flipped faces is undone.
+    /// A correction that does not reduce the number of flipped faces is undone. Only the
+    /// first count looks at the whole map: a correction moves only its patch's vertices, so
+    /// the flips after it are counted on the faces around them.
     pub(crate) fn correct(&self, map: &mut [[f64; 3]]) {
+        let mut flipped = flipped_faces(map, &self.faces);
         for rings in [3, 6, 12] {
-            let flipped = flipped_faces(map, &self.faces);
             if flipped.is_empty() {
                 return;
             }
-            let mut trial = map.to_vec();
-            if self.correct_patch(&mut trial, &flipped, rings)
-                && count_flips(&trial, &self.faces) < flipped.len()
-            {
-                map.copy_from_slice(&trial);
+            let free = self.patch(&flipped, rings);
+            let saved: Vec<[f64; 3]> = free.iter().map(|&v| map[v]).collect();
+            if !self.correct_patch(map, &free) {
+                continue;
+            }
+            // Every face that was flipped has its corners in the patch, so the flips now are
+            // those among the faces touching it.
+            let touched = self.faces_around(&free);
+            let now: Vec<usize> = touched
+                .into_iter()
+                .filter(|&f| spherical_flipped(map, self.faces[f]))
+                .collect();
+            if now.len() < flipped.len() {
+                flipped = now;
+            } else {
+                for (&v, &p) in free.iter().zip(&saved) {
+                    map[v] = p;
+                }
             }
         }
     }
 
-    /// One LBS correction of the patch `rings` rings around the faces `flipped`.
-    fn correct_patch(&self, map: &mut [[f64; 3]], flipped: &[usize], rings: usize) -> bool {
-        let n = map.len();
-        let faces = &self.faces;
-        let mut free = vec![false; n];
-        let mut frontier: Vec<usize> = Vec::new();
+    /// The vertices within `rings` rings of the corners of the faces `flipped`.
+    fn patch(&self, flipped: &[usize], rings: usize) -> Vec<usize> {
+        let mut seen = std::collections::HashSet::new();
+        let mut free: Vec<usize> = Vec::new();
         for &f in flipped {
-            for &v in &faces[f] {
-                if !free[v as usize] {
-                    free[v as usize] = true;
-                    frontier.push(v as usize);
+            for &v in &self.faces[f] {
+                if seen.insert(v as usize) {
+                    free.push(v as usize);
                 }
             }
         }
+        let mut start = 0;
         for _ in 0..rings {
-            let mut next = Vec::new();
-            for &v in &frontier {
-                for &f in self.incidence.faces_of(v) {
-                    for &u in &faces[f as usize] {
-                        if !free[u as usize] {
-                            free[u as usize] = true;
-                            next.push(u as usize);
+            let end = free.len();
+            for k in start..end {
+                for &f in self.incidence.faces_of(free[k]) {
+                    for &u in &self.faces[f as usize] {
+                        if seen.insert(u as usize) {
+                            free.push(u as usize);
                         }
                     }
                 }
             }
-            frontier = next;
+            start = end;
         }
-        // Separate patches are corrected one at a time, each around its own centre.
-        let mut label = vec![usize::MAX; n];
+        free
+    }
+
+    /// The faces with a corner among the vertices `verts`, each once, in increasing order.
+    fn faces_around(&self, verts: &[usize]) -> Vec<usize> {
+        let mut out: Vec<usize> = verts
+            .iter()
+            .flat_map(|&v| self.incidence.faces_of(v).iter().map(|&f| f as usize))
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
+    /// One LBS correction of the patch whose free vertices are `free` (connected pieces are
+    /// corrected one at a time, each around its own centre); true if anything moved.
+    fn correct_patch(&self, map: &mut [[f64; 3]], free: &[usize]) -> bool {
+        let faces = &self.faces;
+        let in_patch: std::collections::HashSet<usize> = free.iter().copied().collect();
+        let mut label: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
         let mut components: Vec<Vec<usize>> = Vec::new();
-        for start in 0..n {
-            if !free[start] || label[start] != usize::MAX {
+        for &start in free {
+            if label.contains_key(&start) {
                 continue;
             }
             let id = components.len();
             let mut comp = vec![start];
-            label[start] = id;
+            label.insert(start, id);
             let mut k = 0;
             while k < comp.len() {
                 let v = comp[k];
@@ -138,8 +164,8 @@ impl OverlapCorrector {
                 for &f in self.incidence.faces_of(v) {
                     for &u in &faces[f as usize] {
                         let u = u as usize;
-                        if free[u] && label[u] == usize::MAX {
-                            label[u] = id;
+                        if in_patch.contains(&u) && !label.contains_key(&u) {
+                            label.insert(u, id);
                             comp.push(u);
                         }
                     }
@@ -149,13 +175,19 @@ impl OverlapCorrector {
         }
         let mut changed = false;
         for comp in &components {
-            changed |= self.correct_component(map, comp, &free);
+            changed |= self.correct_component(map, comp, &in_patch);
         }
         changed
     }
 
-    /// LBS correction of one connected patch: `comp` are its free vertices.
-    fn correct_component(&self, map: &mut [[f64; 3]], comp: &[usize], free: &[bool]) -> bool {
+    /// LBS correction of one connected patch: `comp` are its free vertices, `free` those of
+    /// the whole patch.
+    fn correct_component(
+        &self,
+        map: &mut [[f64; 3]],
+        comp: &[usize],
+        free: &std::collections::HashSet<usize>,
+    ) -> bool {
         let faces = &self.faces;
         // The patch's faces (those touching a free vertex) and their corners, re-indexed.
         let mut local: std::collections::HashMap<usize, u32> = std::collections::HashMap::new();
@@ -176,7 +208,7 @@ impl OverlapCorrector {
                 }));
             }
         }
-        let fixed: Vec<bool> = verts.iter().map(|&v| !free[v]).collect();
+        let fixed: Vec<bool> = verts.iter().map(|&v| !free.contains(&v)).collect();
         if !fixed.iter().any(|&x| x) {
             return false;
         }

@@ -37,6 +37,7 @@ use super::density::{Density, SphereDiffusion};
 use super::input::{check_sphere_input, initial_sphere_map};
 use super::overlap::{OverlapCorrector, advance};
 use crate::geometry::sphere::normalize;
+use crate::linalg::VertexOrder;
 use crate::methods::iteration::{
     Flow, Keep, Measured, Moved, Rules, Stationary, Step, check_parameters, iterate,
 };
@@ -100,7 +101,8 @@ pub fn run(
     check_sphere_input(mesh, population, "sdem")?;
     let t0 = Instant::now();
     let mut notes = Vec::new();
-    let initial = initial_sphere_map(mesh, population, &mut notes)?;
+    let order = VertexOrder::of_mesh(mesh.n_vertices(), &mesh.faces)?;
+    let initial = initial_sphere_map(mesh, population, &order, &mut notes)?;
     if crate::init::spherical_conformal::count_spherical_flips(&initial, &mesh.faces) > 0 {
         return Err(Error::InvalidMesh(format!(
             "the mesh is too small to map onto the sphere: with {} faces its spherical \
@@ -109,7 +111,7 @@ pub fn run(
         )));
     }
     let time_init = t0.elapsed().as_secs_f64();
-    let mut result = equalize(mesh, population, initial, config, progress)?;
+    let mut result = equalize(mesh, population, initial, Some(&order), config, progress)?;
     result.time_init = time_init;
     notes.append(&mut result.notes);
     result.notes = notes;
@@ -134,14 +136,16 @@ pub fn run_from(
             "the initial spherical map must have one point per vertex and no flipped face".into(),
         ));
     }
-    equalize(mesh, population, initial, config, progress)
+    equalize(mesh, population, initial, None, config, progress)
 }
 
-/// Algorithm 3.1 from `initial`, the inputs already checked by [`run`] or [`run_from`].
+/// Algorithm 3.1 from `initial`, the inputs already checked by [`run`] or [`run_from`];
+/// `order`: the mesh's elimination order, when the caller has one.
 fn equalize(
     mesh: &TriMesh,
     population: &[f64],
     initial: Vec<[f64; 3]>,
+    order: Option<&VertexOrder>,
     config: &Config,
     progress: ProgressFn,
 ) -> Result<MapResult> {
@@ -149,7 +153,7 @@ fn equalize(
     let t1 = Instant::now();
     let faces = &mesh.faces;
     let mut flow = SphereFlow {
-        diffusion: SphereDiffusion::new(initial.len(), faces, population)?,
+        diffusion: SphereDiffusion::new(initial.len(), faces, population, order)?,
         corrector: OverlapCorrector::new(&initial, faces),
         faces,
         dt: config.dt,

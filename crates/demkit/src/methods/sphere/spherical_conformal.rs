@@ -2,6 +2,7 @@
 //! initial map of SDEM (§3.1.1), with the Möbius correction towards the population.
 
 use super::input::{check_sphere_input, initial_sphere_map};
+use crate::linalg::VertexOrder;
 use crate::methods::{MapResult, StopReason};
 use crate::{Result, TriMesh};
 use std::time::Instant;
@@ -13,7 +14,8 @@ pub fn run(mesh: &TriMesh, population: &[f64]) -> Result<MapResult> {
     check_sphere_input(mesh, population, "spherical-conformal")?;
     let t0 = Instant::now();
     let mut notes = Vec::new();
-    let map = initial_sphere_map(mesh, population, &mut notes)?;
+    let order = VertexOrder::of_mesh(mesh.n_vertices(), &mesh.faces)?;
+    let map = initial_sphere_map(mesh, population, &order, &mut notes)?;
     let mut result = MapResult::new(
         "spherical-conformal",
         map.clone(),
