@@ -37,7 +37,7 @@ fn a_torus_subdivided_twice_has_the_counts_and_topology_of_midpoint_subdivision(
 fn a_torus_in_three_parts_has_the_lattice_counts_and_its_population_in_nine_parts() {
     let s = Scratch::new("subdivide-parts");
     s.generate(&["torus", "--major", "8", "--minor", "4", "--out", "t.obj"]);
-    s.write("t.txt", &"9\n".repeat(64));
+    s.write("t.txt", "9\n".repeat(64));
     let out = s.ok(&[
         "subdivide",
         "t.obj",

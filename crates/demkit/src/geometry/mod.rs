@@ -49,6 +49,7 @@ pub fn bounding_box_diagonal(points: &[[f64; 3]]) -> f64 {
 }
 
 /// Area of the triangle (a, b, c) in R³ (unsigned): ½ |(b − a) × (c − a)|.
+#[inline]
 pub fn triangle_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     0.5 * norm(cross(sub(b, a), sub(c, a)))
 }
@@ -69,12 +70,12 @@ pub fn signed_areas_2d(positions: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<f64> {
     per_face(positions, faces, signed_area_2d)
 }
 
-/// `area` of every face's corners (in parallel).
-fn per_face(
-    positions: &[[f64; 3]],
-    faces: &[[u32; 3]],
-    area: fn([f64; 3], [f64; 3], [f64; 3]) -> f64,
-) -> Vec<f64> {
+/// `area` of every face's corners (in parallel; generic, so that `area` is inlined into the
+/// loop instead of called through a pointer per face).
+fn per_face<A>(positions: &[[f64; 3]], faces: &[[u32; 3]], area: A) -> Vec<f64>
+where
+    A: Fn([f64; 3], [f64; 3], [f64; 3]) -> f64 + Sync,
+{
     faces
         .par_iter()
         .map(|f| {

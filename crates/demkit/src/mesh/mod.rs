@@ -1,6 +1,7 @@
 //! Triangle meshes: the [`TriMesh`] type, topology, validation, welding, edge splitting and
 //! midpoint subdivision.
 
+pub mod locality;
 pub mod scale;
 pub mod split;
 pub mod subdivide;
@@ -10,6 +11,7 @@ pub(crate) mod union_find;
 pub mod validate;
 pub mod weld;
 
+pub use locality::Locality;
 pub use subdivide::{
     split_population, split_population_parts, subdivide, subdivide_levels, subdivide_parts,
 };

@@ -43,13 +43,17 @@ fn planar(p: [[f64; 3]; 3]) -> [[f64; 2]; 3] {
 
 /// Beltrami coefficient per face of the map from `source` to `target` (same connectivity),
 /// each face's corners brought to the plane by `source_2d` and `target_2d`.
-fn per_face(
+fn per_face<S, T>(
     source: &[[f64; 3]],
     target: &[[f64; 3]],
     faces: &[[u32; 3]],
-    source_2d: fn([[f64; 3]; 3]) -> [[f64; 2]; 3],
-    target_2d: fn([[f64; 3]; 3]) -> [[f64; 2]; 3],
-) -> Vec<Complex64> {
+    source_2d: S,
+    target_2d: T,
+) -> Vec<Complex64>
+where
+    S: Fn([[f64; 3]; 3]) -> [[f64; 2]; 3] + Sync,
+    T: Fn([[f64; 3]; 3]) -> [[f64; 2]; 3] + Sync,
+{
     faces
         .par_iter()
         .map(|f| {

@@ -317,16 +317,9 @@ pub(crate) fn advance(
     faces: &[[u32; 3]],
     corrector: &OverlapCorrector,
 ) -> StepOutcome {
-    let propose = |scale_of: &(dyn Fn(usize) -> f64 + Sync)| -> Vec<[f64; 3]> {
-        map.par_iter()
-            .zip(step.par_iter())
-            .enumerate()
-            .map(|(i, (&p, &s))| normalize(add(p, scale(s, scale_of(i)))))
-            .collect()
-    };
     let mut tau = 1.0;
     for _ in 0..7 {
-        let mut prop = propose(&|_| tau);
+        let mut prop = propose(map, step, |_| tau);
         if !has_spherical_flip(&prop, faces) {
             *map = prop;
             return StepOutcome {
@@ -351,7 +344,7 @@ pub(crate) fn advance(
     }
     // A step longer than half the vertex's shortest edge is shortened to that length.
     let limit = corrector.clamp_factors(map, step);
-    let mut prop = propose(&|i| limit[i]);
+    let mut prop = propose(map, step, |i| limit[i]);
     let mean_limit = limit.iter().sum::<f64>() / limit.len().max(1) as f64;
     if has_spherical_flip(&prop, faces) {
         corrector.correct(&mut prop);
@@ -373,7 +366,7 @@ pub(crate) fn advance(
         .map(|(s, &l)| scale(*s, l))
         .collect();
     let damp = local_damping(map, &limited, faces, &corrector.incidence);
-    let prop = propose(&|i| limit[i] * damp[i]);
+    let prop = propose(map, step, |i| limit[i] * damp[i]);
     if !has_spherical_flip(&prop, faces) {
         *map = prop;
         return StepOutcome {
@@ -387,7 +380,7 @@ pub(crate) fn advance(
         .map(|f| collapse_time(f.map(|v| map[v as usize]), f.map(|v| step[v as usize])))
         .reduce(|| f64::INFINITY, f64::min);
     let tau = (0.5 * t_min).min(1.0);
-    let prop = propose(&|_| tau);
+    let prop = propose(map, step, |_| tau);
     if tau > 0.0 && !has_spherical_flip(&prop, faces) {
         *map = prop;
         return StepOutcome {
@@ -399,6 +392,19 @@ pub(crate) fn advance(
         fraction: 0.0,
         corrected: false,
     }
+}
+
+/// `map` moved by `step`, vertex `i`'s step scaled by `scale_of(i)`, back onto the sphere.
+fn propose(
+    map: &[[f64; 3]],
+    step: &[[f64; 3]],
+    scale_of: impl Fn(usize) -> f64 + Sync,
+) -> Vec<[f64; 3]> {
+    map.par_iter()
+        .zip(step.par_iter())
+        .enumerate()
+        .map(|(i, (&p, &s))| normalize(add(p, scale(s, scale_of(i)))))
+        .collect()
 }
 
 /// Per-vertex step factors in [0, 1] such that no face collapses before twice the damped step

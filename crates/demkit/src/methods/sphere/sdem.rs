@@ -38,6 +38,7 @@ use super::input::{check_sphere_input, initial_sphere_map};
 use super::overlap::{OverlapCorrector, advance};
 use crate::geometry::sphere::normalize;
 use crate::linalg::VertexOrder;
+use crate::mesh::Locality;
 use crate::methods::iteration::{
     Flow, Keep, Measured, Moved, Rules, Stationary, Step, check_parameters, iterate,
 };
@@ -100,6 +101,9 @@ pub fn run(
     check_parameters(config.epsilon, config.dt, config.max_iter)?;
     check_sphere_input(mesh, population, "sdem")?;
     let t0 = Instant::now();
+    // The computation runs in a cache-friendly numbering of the mesh (`mesh::Locality`).
+    let local = Locality::breadth_first(mesh.n_vertices(), &mesh.faces);
+    let (mesh, population) = (&local.mesh(mesh), &local.faces(population));
     let mut notes = Vec::new();
     let order = VertexOrder::of_mesh(mesh.n_vertices(), &mesh.faces)?;
     let initial = initial_sphere_map(mesh, population, &order, &mut notes)?;
@@ -112,6 +116,8 @@ pub fn run(
     }
     let time_init = t0.elapsed().as_secs_f64();
     let mut result = equalize(mesh, population, initial, Some(&order), config, progress)?;
+    result.positions = local.restore_vertices(&result.positions);
+    result.initial = local.restore_vertices(&result.initial);
     result.time_init = time_init;
     notes.append(&mut result.notes);
     result.notes = notes;
