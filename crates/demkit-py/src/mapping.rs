@@ -166,24 +166,28 @@ fn landmarks(
 
 /// Runs the map with the GIL released, reporting each iteration to `progress` (called with
 /// `(iteration, error, max_iter)` under the GIL); the first exception `progress` raises is
-/// raised once the map is done.
+/// raised once the map is done. The map runs on a thread of rayon's pool, as the command line
+/// runs it: the library's parallel loops then start from a worker instead of being handed to
+/// the pool from outside, one sleep and wake-up each.
 fn run(py: Python<'_>, p: &Prepared, progress: Option<Py<PyAny>>) -> PyResult<demkit::Map> {
     let mut failed: Option<PyErr> = None;
     let map = py.detach(|| {
         guarded(|| {
-            let mut report = |s: Progress| {
-                if let Some(cb) = &progress
-                    && failed.is_none()
-                {
-                    Python::attach(|py| {
-                        if let Err(e) = cb.call1(py, (s.iteration, s.error, s.max_iter)) {
-                            failed = Some(e);
-                        }
-                    });
-                }
-            };
-            demkit::map_with_progress(&p.surface, &p.population, &p.options, &mut report)
-                .map_err(to_py)
+            rayon::scope(|_| {
+                let mut report = |s: Progress| {
+                    if let Some(cb) = &progress
+                        && failed.is_none()
+                    {
+                        Python::attach(|py| {
+                            if let Err(e) = cb.call1(py, (s.iteration, s.error, s.max_iter)) {
+                                failed = Some(e);
+                            }
+                        });
+                    }
+                };
+                demkit::map_with_progress(&p.surface, &p.population, &p.options, &mut report)
+                    .map_err(to_py)
+            })
         })
     });
     if let Some(e) = failed {
