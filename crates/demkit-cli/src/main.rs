@@ -131,6 +131,9 @@ fn one_line(text: &str) -> String {
     format!("{} {}", first, items.join(", "))
 }
 
+/// The stack of every rayon worker thread, 8 MiB (the usual main-thread stack).
+const WORKER_STACK: usize = 8 << 20;
+
 fn main() -> ExitCode {
     // A bug must never show a panic trace: report it on one line and exit with 1.
     std::panic::set_hook(Box::new(|info| {
@@ -163,6 +166,11 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    // rayon's workers get the main thread's stack size (their default is a quarter of it):
+    // the command runs on one of them. If the pool exists already this changes nothing.
+    let _ = rayon::ThreadPoolBuilder::new()
+        .stack_size(WORKER_STACK)
+        .build_global();
     // The command runs on a thread of rayon's pool: the library's parallel loops then start
     // from a worker, which splits them with the other workers directly, instead of handing
     // each loop to the pool from outside and sleeping until it is done (two context switches

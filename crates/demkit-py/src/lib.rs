@@ -62,6 +62,11 @@ pub(crate) fn guarded<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
 /// The module `demkit._demkit`.
 #[pymodule]
 fn _demkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // `map` runs on a rayon worker: give the workers an 8 MiB stack, as a main thread has
+    // (nothing changes if the process built rayon's pool already).
+    let _ = rayon::ThreadPoolBuilder::new()
+        .stack_size(8 << 20)
+        .build_global();
     let py = m.py();
     m.add("InputError", py.get_type::<InputError>())?;
     m.add("NumericalError", py.get_type::<NumericalError>())?;
