@@ -48,12 +48,14 @@ fn mobius_and_jacobian(a: [f64; 3], x: [f64; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
 /// order: the same value whatever the threads).
 const BLOCK: usize = 4096;
 
-/// The areas of the faces of `y`, their total, and the mean |log ratio| of the normalised
-/// areas to the normalised targets (`log_target` = log of the normalised target weights).
+/// The areas of the faces of `y`, their total, the mean |log ratio| of the normalised areas to
+/// the normalised targets (`log_target` = log of the normalised target weights), and, when
+/// `signs` is asked for, the sign of every face's log ratio (the objective's derivative in it).
 fn areas_and_objective(
     y: &[[f64; 3]],
     faces: &[[u32; 3]],
     log_target: &[f64],
+    signs: Option<&mut Vec<f64>>,
 ) -> (Vec<f64>, f64, f64) {
     let areas: Vec<f64> = faces
         .par_iter()
@@ -61,25 +63,38 @@ fn areas_and_objective(
         .collect();
     let sum = areas.iter().sum::<f64>();
     let log_sum = sum.ln();
-    let s: f64 = areas
+    let d: Vec<f64> = areas
+        .par_iter()
+        .zip(log_target.par_iter())
+        .map(|(a, t)| a.ln() - log_sum - t)
+        .collect();
+    let s: f64 = d
         .par_chunks(BLOCK)
-        .zip(log_target.par_chunks(BLOCK))
-        .map(|(a, t)| {
-            a.iter()
-                .zip(t)
-                .map(|(a, t)| (a.ln() - log_sum - t).abs())
-                .sum::<f64>()
-        })
+        .map(|c| c.iter().map(|x| x.abs()).sum::<f64>())
         .collect::<Vec<f64>>()
         .iter()
         .sum();
+    if let Some(signs) = signs {
+        *signs = d
+            .iter()
+            .map(|&x| {
+                if x > 0.0 {
+                    1.0
+                } else if x < 0.0 {
+                    -1.0
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+    }
     let j = s / faces.len() as f64;
     (areas, sum, if j.is_nan() { f64::INFINITY } else { j })
 }
 
 /// The mean |log ratio| of normalised map areas to normalised target areas.
 fn objective(y: &[[f64; 3]], faces: &[[u32; 3]], log_target: &[f64]) -> f64 {
-    areas_and_objective(y, faces, log_target).2
+    areas_and_objective(y, faces, log_target, None).2
 }
 
 /// Objective and its gradient in `a`: the chain rule through the triangle areas and the
@@ -92,22 +107,8 @@ fn objective_and_gradient(
 ) -> (f64, [f64; 3]) {
     let (y, jac): (Vec<[f64; 3]>, Vec<[[f64; 3]; 3]>) =
         x.par_iter().map(|&p| mobius_and_jacobian(a, p)).unzip();
-    let (areas, sum_a, j) = areas_and_objective(&y, faces, log_target);
-    let log_sum = sum_a.ln();
-    let signs: Vec<f64> = areas
-        .par_iter()
-        .zip(log_target.par_iter())
-        .map(|(a, t)| {
-            let d = a.ln() - log_sum - t;
-            if d > 0.0 {
-                1.0
-            } else if d < 0.0 {
-                -1.0
-            } else {
-                0.0
-            }
-        })
-        .collect();
+    let mut signs = Vec::new();
+    let (areas, sum_a, j) = areas_and_objective(&y, faces, log_target, Some(&mut signs));
     let s_total: f64 = signs.iter().sum();
     let nf = faces.len() as f64;
     let grad = faces

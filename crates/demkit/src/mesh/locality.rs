@@ -89,14 +89,6 @@ impl Locality {
         self.old_face.iter().map(|&f| values[f as usize]).collect()
     }
 
-    /// Per-vertex values of the input in the new vertex order.
-    pub fn vertices<T: Copy>(&self, values: &[T]) -> Vec<T> {
-        self.old_vertex
-            .iter()
-            .map(|&v| values[v as usize])
-            .collect()
-    }
-
     /// Per-vertex values in the new numbering back in the input's vertex order.
     pub fn restore_vertices<T: Copy>(&self, values: &[T]) -> Vec<T> {
         self.new_vertex
@@ -133,10 +125,6 @@ mod tests {
             assert_eq!(*f, old.map(|v| l.new_vertex(v as usize) as u32));
         }
         assert_eq!(l.restore_vertices(&m.positions), mesh.positions);
-        assert_eq!(
-            l.restore_vertices(&l.vertices(&mesh.positions)),
-            mesh.positions
-        );
         // Faces come in the order of their first vertex.
         let first: Vec<u32> = m.faces.iter().map(|f| f[0].min(f[1]).min(f[2])).collect();
         assert!(first.windows(2).all(|w| w[0] <= w[1]));

@@ -59,12 +59,17 @@ impl<'a> SphereDiffusion<'a> {
     /// population sums are the mesh's, and only the area sums change with the map.
     pub(crate) fn measure(&self, map: &[[f64; 3]]) -> Density {
         let areas = face_areas(map, self.faces);
-        let rho_v: Vec<f64> = self
-            .incidence
-            .sum(&areas)
+        let (incidence, population) = (&self.incidence, &self.vertex_population);
+        let rho_v: Vec<f64> = (0..population.len())
             .into_par_iter()
-            .zip(self.vertex_population.par_iter())
-            .map(|(a, p)| if a > 0.0 { p / a } else { 0.0 })
+            .map(|v| {
+                let a: f64 = incidence
+                    .faces_of(v)
+                    .iter()
+                    .map(|&f| areas[f as usize])
+                    .sum();
+                if a > 0.0 { population[v] / a } else { 0.0 }
+            })
             .collect();
         let sd_over_mean = normalized_variance(&rho_v).sqrt();
         Density {
