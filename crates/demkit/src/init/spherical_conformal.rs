@@ -75,7 +75,7 @@ fn check_size(n_vertices: usize, n_faces: usize) -> Result<()> {
 
 /// [`spherical_conformal_map`] with the connectivity's elimination `order` computed by the
 /// caller, who solves other systems on the same connectivity ([`VertexOrder`]).
-pub fn spherical_conformal_map_in_order(
+pub(crate) fn spherical_conformal_map_in_order(
     positions: &[[f64; 3]],
     faces: &[[u32; 3]],
     order: &VertexOrder,

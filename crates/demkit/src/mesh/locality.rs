@@ -96,11 +96,6 @@ impl Locality {
             .map(|&v| values[v as usize])
             .collect()
     }
-
-    /// The new index of input vertex `v`.
-    pub fn new_vertex(&self, v: usize) -> usize {
-        self.new_vertex[v] as usize
-    }
 }
 
 #[cfg(test)]
@@ -122,7 +117,7 @@ mod tests {
         assert_eq!(l.faces(&area), face_areas(&m.positions, &m.faces));
         for (k, f) in m.faces.iter().enumerate() {
             let old = mesh.faces[l.old_face[k] as usize];
-            assert_eq!(*f, old.map(|v| l.new_vertex(v as usize) as u32));
+            assert_eq!(*f, old.map(|v| l.new_vertex[v as usize]));
         }
         assert_eq!(l.restore_vertices(&m.positions), mesh.positions);
         // Faces come in the order of their first vertex.
@@ -157,8 +152,8 @@ mod tests {
         // Two separate triangles and an unused vertex between them.
         let mesh = TriMesh::new(vec![[0.0; 3]; 7], vec![[4, 5, 6], [0, 1, 2]]);
         let l = Locality::breadth_first(7, &mesh.faces);
-        let mut seen: Vec<u32> = (0..7).map(|v| l.new_vertex(v) as u32).collect();
-        assert_eq!(l.new_vertex(3), 6);
+        let mut seen: Vec<u32> = (0..7).map(|v| l.new_vertex[v]).collect();
+        assert_eq!(l.new_vertex[3] as usize, 6);
         seen.sort_unstable();
         assert_eq!(seen, (0..7).collect::<Vec<u32>>());
         assert_eq!(l.mesh(&mesh).faces, vec![[0, 1, 2], [3, 4, 5]]);

@@ -1,7 +1,7 @@
 //! Triangle meshes: the [`TriMesh`] type, topology, validation, welding, edge splitting and
 //! midpoint subdivision.
 
-pub mod locality;
+pub(crate) mod locality;
 pub mod scale;
 pub mod split;
 pub mod subdivide;
@@ -11,7 +11,7 @@ pub(crate) mod union_find;
 pub mod validate;
 pub mod weld;
 
-pub use locality::Locality;
+pub(crate) use locality::Locality;
 pub use subdivide::{
     split_population, split_population_parts, subdivide, subdivide_levels, subdivide_parts,
 };
