@@ -5,13 +5,18 @@
 %   octave-cli run_reference.m sdem  CODE MESH.obj POP OUT.obj
 %   octave-cli run_reference.m torus CODE MESH.obj POP OUT.obj MAT R r
 %   octave-cli run_reference.m param CODE MESH.obj area OUT.obj CUT R r
+%   octave-cli run_reference.m edem  CODE MESH.obj POP OUT.obj A B C SELF
+%   octave-cli run_reference.m edeq  CODE MESH.obj POP OUT.obj A0 B0 C0 SELF
 %
 % CODE: the root of the authors' SDEM or TDEM repository (the one with code/
 % and data/). POP: a population file (one value per face) or 'area' (the
 % input's face areas). MAT: the authors' .mat of a torus example, which holds
 % the torus already sliced along its seam (v, f); it is checked against MESH
 % and POP. CUT: the authors' cut path, 0-based vertex pairs. R, r: the target
-% torus radii.
+% torus radii. A B C: the target ellipsoid's radii (edem), A0 B0 C0 the
+% initial guess (edeq). SELF: 1 when the surface lies on the ellipsoid already
+% and is its own initial map (the demos' first examples), 0 for the
+% ellipsoidal conformal map as the initial map (their second examples).
 %
 % The time covers what the authors' demos run after loading a mesh, with
 % tic/toc, file reading and writing excluded:
@@ -21,6 +26,12 @@
 %   param: slice_mesh along the cut + corners + rectangular_map_periodic2
 %          + toroidal_projection + TDEM(map0, f, area, R, r, 0.1, 1e-2, 500)
 %                                                     (demo_TDEM_parameterization.m)
+%   edem:  [ellipsoidal_conformal_map unless SELF]
+%          + EDEM(v, f, population, A, B, C, r0, 0.1, 1e-3, 300)  (demo_EDEM.m)
+%   edeq:  [ellipsoidal_conformal_map unless SELF]
+%          + EDEQ(v, f, population, 5, A0, B0, C0, r0, 0.1, 1e-5, 300, 5)
+%                                                     (demo_EDEQ.m)
+% For edeq the last line also gives the radii chosen: radii=A:B:C.
 % Iterations are counted from the step lines the reference prints (they go
 % to stdout as it runs, and through diary to a file parsed afterwards).
 % Last line of stdout: REFERENCE time_s=... iterations=... init_s=... method_s=...
@@ -65,7 +76,8 @@ args = argv();
 kind = args{1}; code = args{2}; mesh = args{3}; pop = args{4}; out = args{5};
 here = fileparts(mfilename('fullpath'));
 addpath(here);
-if ~exist('fmincon') || ~exist('optimoptions') || ~exist('triangulation') || ~exist('vertexAttachments')
+if ~exist('fmincon') || ~exist('optimoptions') || ~exist('triangulation') || ~exist('vertexAttachments') ...
+   || ~exist('scatteredInterpolant')
   addpath(fullfile(here, 'compat'));   % stand-ins for what Octave lacks
 end
 addpath(fullfile(code, 'code'));
@@ -141,10 +153,37 @@ switch kind
     map_in(parent, :) = map;
     time_s = toc(t0);
 
+  case {'edem', 'edeq'}
+    radii = [str2double(args{6}), str2double(args{7}), str2double(args{8})];
+    self = strcmp(args{9}, '1');
+    population = read_population(pop, f_in, v_in);
+    t0 = tic;
+    if self
+      r0 = v_in;
+    else
+      r0 = ellipsoidal_conformal_map(v_in, f_in, radii(1), radii(2), radii(3));
+    end
+    init_s = toc(t0);
+    diary(steps);
+    if strcmp(kind, 'edem')
+      map = EDEM(v_in, f_in, population, radii(1), radii(2), radii(3), r0, 0.1, 1e-3, 300);
+    else
+      [map, ea, eb, ec] = EDEQ(v_in, f_in, population, 5, radii(1), radii(2), radii(3), r0, ...
+                               0.1, 1e-5, 300, 5);
+      chosen = [ea, eb, ec];
+    end
+    diary off;
+    time_s = toc(t0);
+    map_in = map;
+
   otherwise
     error('unknown case kind %s', kind);
 end
 
 write_obj(out, map_in, f_in);
-printf('REFERENCE time_s=%.6f iterations=%d init_s=%.6f method_s=%.6f\n', ...
-       time_s, last_step(steps), init_s, time_s - init_s);
+extra = '';
+if exist('chosen', 'var')
+  extra = sprintf(' radii=%.6f:%.6f:%.6f', chosen);
+end
+printf('REFERENCE time_s=%.6f iterations=%d init_s=%.6f method_s=%.6f%s\n', ...
+       time_s, last_step(steps), init_s, time_s - init_s, extra);

@@ -87,6 +87,10 @@ pub struct MethodArgs {
     /// Target torus radii R:r (tdem).
     #[arg(long, allow_hyphen_values = true)]
     pub torus: Option<String>,
+    /// Target ellipsoid radii A:B:C along x, y, z (edem; with `--method auto` a genus-0 closed
+    /// surface is then mapped by edem).
+    #[arg(long, allow_hyphen_values = true)]
+    pub ellipsoid: Option<String>,
     /// The energy weights.
     #[command(flatten)]
     pub weights: WeightArgs,

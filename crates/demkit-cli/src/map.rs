@@ -3,6 +3,7 @@
 use crate::Failure;
 use crate::args::{MapArgs, MethodArgs};
 use crate::progress::Bar;
+use demkit::geometry::ellipsoid::Ellipsoid;
 use demkit::geometry::torus::Torus;
 use demkit::population::{PopulationSpec, face_populations_at_scale};
 use demkit::shape::Shape;
@@ -85,6 +86,15 @@ pub fn compute(
         }
         _ => None,
     };
+    let ellipsoid = match (&a.ellipsoid, method) {
+        (Some(s), Method::Edem) => Some(parse_ellipsoid(s)?),
+        (None, Method::Edem) => {
+            return Err(Failure::input(
+                "--method edem needs the target ellipsoid: --ellipsoid A:B:C with radii A, B, C > 0",
+            ));
+        }
+        _ => None,
+    };
     let shape = match (&a.shape, method) {
         (Some(s), Method::DemShape) => Some(Shape::parse(s)?),
         _ => None,
@@ -93,6 +103,7 @@ pub fn compute(
         method,
         landmarks,
         torus,
+        ellipsoid,
         shape,
         alpha: a.weights.alpha,
         beta: a.weights.beta,
@@ -132,6 +143,9 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         check_uv_extension(uv)?;
     }
     crate::render::check_map_args(a)?;
+    if let Some(s) = &a.m.ellipsoid {
+        parse_ellipsoid(s)?;
+    }
     let (population, landmarks) = crate::paths::method_inputs(&a.m);
     crate::paths::check(
         &crate::paths::mesh_inputs(&a.mesh, &population, &landmarks),
@@ -147,15 +161,15 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     let topo = surface.topology();
     let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
     warn_unused(&a.m, method, a.quiet);
-    if a.uv_out.is_some()
-        && matches!(
-            method,
-            Method::Sdem | Method::Lsdem | Method::SphericalConformal
-        )
-    {
+    if a.uv_out.is_some() && method.maps_onto_closed_surface() {
         return Err(Failure::input(format!(
-            "--uv-out needs a planar, circle-domain or torus map, and --method {} maps onto the sphere",
-            method.name()
+            "--uv-out needs a planar, circle-domain or torus map, and --method {} maps onto {}",
+            method.name(),
+            if method.maps_onto_sphere() {
+                "the sphere"
+            } else {
+                "an ellipsoid"
+            }
         )));
     }
     let c = compute(&surface, method, &a.m, a.quiet)?;
@@ -205,9 +219,12 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
 
 /// `--method auto` by topology; explicit methods are checked by the methods themselves.
 pub fn resolve_method(a: &MethodArgs, boundaries: usize, genus: i64) -> Result<Method, Failure> {
-    Ok(a.method
-        .0
-        .resolve(boundaries, genus, a.landmarks.is_some())?)
+    Ok(a.method.0.resolve(
+        boundaries,
+        genus,
+        a.landmarks.is_some(),
+        a.ellipsoid.is_some(),
+    )?)
 }
 
 /// `--uv-out` writes .obj only (the format with per-corner texture coordinates).
@@ -231,6 +248,23 @@ pub fn parse_torus(s: &str) -> Result<Torus, Failure> {
     Torus::new(major, minor).map_err(|e| Failure::input(format!("--torus: {e}")))
 }
 
+/// `--ellipsoid A:B:C`: the target ellipsoid of edem.
+pub fn parse_ellipsoid(s: &str) -> Result<Ellipsoid, Failure> {
+    let bad = || {
+        Failure::input(format!(
+            "--ellipsoid must be A:B:C with numbers A, B, C > 0 (e.g. 1:1:2), got '{s}'"
+        ))
+    };
+    let radii: Vec<f64> = s
+        .split(':')
+        .map(|x| x.trim().parse::<f64>().map_err(|_| bad()))
+        .collect::<Result<_, _>>()?;
+    let [a, b, c] = radii[..] else {
+        return Err(bad());
+    };
+    Ellipsoid::new(a, b, c).map_err(|e| Failure::input(format!("--ellipsoid: {e}")))
+}
+
 /// Warns about options the chosen method does not use.
 pub fn warn_unused(a: &MethodArgs, m: Method, quiet: bool) {
     if quiet {
@@ -246,6 +280,7 @@ pub fn warn_unused(a: &MethodArgs, m: Method, quiet: bool) {
             "--landmarks",
         ),
         (a.torus.is_some() && m != Method::Tdem, "--torus"),
+        (a.ellipsoid.is_some() && m != Method::Edem, "--ellipsoid"),
         (
             a.weights.alpha.is_some() && !matches!(m, Method::Lsdem | Method::Deq | Method::Ldeq),
             "--alpha",
@@ -269,6 +304,7 @@ pub fn warn_unused(a: &MethodArgs, m: Method, quiet: bool) {
                 | Method::DemShape
                 | Method::Sdem
                 | Method::Lsdem
+                | Method::Edem
                 | Method::SphericalConformal
                 | Method::Deq
                 | Method::Ldeq

@@ -101,12 +101,11 @@ pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
         );
         return Ok(1);
     }
-    let target = match (&result.flat_torus, &c.torus) {
-        (Some(map), Some(torus)) => Target::Torus { map, torus },
-        _ => match method {
-            Method::Sdem | Method::Lsdem | Method::SphericalConformal => Target::Sphere,
-            _ => Target::Plane,
-        },
+    let target = match (&result.flat_torus, &c.torus, result.ellipsoid) {
+        (Some(map), Some(torus), _) => Target::Torus { map, torus },
+        (_, _, Some(e)) => Target::Ellipsoid(e),
+        _ if method.maps_onto_sphere() => Target::Sphere,
+        _ => Target::Plane,
     };
     // A planar layout makes up for a map's residual density; the sphere and the torus do not.
     if !a.quiet

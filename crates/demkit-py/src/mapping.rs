@@ -2,6 +2,7 @@
 
 use crate::arrays::{MeshArrays, faces, faces_array, points_array, positions, values};
 use crate::{guarded, input_error, to_py};
+use demkit::geometry::ellipsoid::Ellipsoid;
 use demkit::geometry::torus::Torus;
 use demkit::methods::Progress;
 use demkit::shape::Shape;
@@ -30,6 +31,7 @@ pub struct Request<'py> {
     landmark_indices: Option<PyReadonlyArray1<'py, i64>>,
     landmark_targets: Option<PyReadonlyArray2<'py, f64>>,
     torus: Option<(f64, f64)>,
+    ellipsoid: Option<(f64, f64, f64)>,
     shape: Option<String>,
     alpha: Option<f64>,
     beta: Option<f64>,
@@ -66,7 +68,12 @@ fn prepare(r: &Request<'_>) -> PyResult<Prepared> {
     let topo = surface.topology();
     let has_landmarks = r.landmark_indices.is_some();
     let method = method_named(&r.method)?
-        .resolve(topo.boundary_loops.len(), topo.genus, has_landmarks)
+        .resolve(
+            topo.boundary_loops.len(),
+            topo.genus,
+            has_landmarks,
+            r.ellipsoid.is_some(),
+        )
         .map_err(to_py)?;
     let population = match &r.population_values {
         Some(v) => Population::PerFace(values(v)),
@@ -106,6 +113,17 @@ fn prepare(r: &Request<'_>) -> PyResult<Prepared> {
         }
         _ => None,
     };
+    let ellipsoid = match (r.ellipsoid, method) {
+        (Some((a, b, c)), Method::Edem) => {
+            Some(Ellipsoid::new(a, b, c).map_err(|e| input_error(format!("ellipsoid: {e}")))?)
+        }
+        (None, Method::Edem) => {
+            return Err(input_error(
+                "method 'edem' needs the target ellipsoid: ellipsoid=(a, b, c) with a, b, c > 0",
+            ));
+        }
+        _ => None,
+    };
     let shape = match (&r.shape, method) {
         (Some(s), Method::DemShape) => Some(Shape::parse(s).map_err(to_py)?),
         _ => None,
@@ -114,6 +132,7 @@ fn prepare(r: &Request<'_>) -> PyResult<Prepared> {
         method,
         landmarks,
         torus,
+        ellipsoid,
         shape,
         alpha: r.alpha,
         beta: r.beta,
@@ -226,6 +245,10 @@ pub fn map<'py>(
     match &map.domain {
         Domain::Plane => domain.set_item("kind", "plane")?,
         Domain::Sphere => domain.set_item("kind", "sphere")?,
+        Domain::Ellipsoid { a, b, c } => {
+            domain.set_item("kind", "ellipsoid")?;
+            domain.set_item("radii", (*a, *b, *c))?;
+        }
         Domain::CircleDomain { circles } => {
             domain.set_item("kind", "circle_domain")?;
             let list = PyList::empty(py);
@@ -283,8 +306,9 @@ pub fn remesh<'py>(
         .map(|t| t.scaled_by_power_of_two(exponent));
     let out = py.detach(|| {
         guarded(|| {
-            let target = match (&map.result.flat_torus, &torus) {
-                (Some(map), Some(torus)) => Target::Torus { map, torus },
+            let target = match (&map.result.flat_torus, &torus, map.result.ellipsoid) {
+                (Some(map), Some(torus), _) => Target::Torus { map, torus },
+                (_, _, Some(e)) => Target::Ellipsoid(e),
                 _ if map.method.maps_onto_sphere() => Target::Sphere,
                 _ => Target::Plane,
             };

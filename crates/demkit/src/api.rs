@@ -14,9 +14,10 @@
 //! # Ok::<(), demkit::Error>(())
 //! ```
 
+use crate::geometry::ellipsoid::Ellipsoid;
 use crate::geometry::torus::{FlatTorusMap, Torus};
 use crate::methods::{
-    MapResult, ProgressFn, circle_conformal, dem, dem_shape, deq, ldeq, lsdem, sdem,
+    MapResult, ProgressFn, circle_conformal, dem, dem_shape, deq, edem, ldeq, lsdem, sdem,
     spherical_conformal, tdem,
 };
 use crate::metrics::Metrics;
@@ -39,6 +40,8 @@ pub enum Method {
     Sdem,
     /// LSDEM: SDEM with landmarks sent to targets on the sphere.
     Lsdem,
+    /// EDEM: a genus-0 closed surface onto an ellipsoid ([`MapOptions::ellipsoid`]).
+    Edem,
     /// DEQ: a surface with holes onto a circle domain.
     Deq,
     /// LDEQ: DEQ with landmarks sent to targets in the disk.
@@ -55,7 +58,7 @@ impl Map {
     /// How the metrics measure a map lying in [`Map::domain`].
     pub fn metrics_domain(&self) -> crate::metrics::Domain {
         match self.domain {
-            Domain::Sphere => crate::metrics::Domain::Sphere,
+            Domain::Sphere | Domain::Ellipsoid { .. } => crate::metrics::Domain::Sphere,
             Domain::Torus { .. } => crate::metrics::Domain::Torus {
                 flipped: self.metrics.flipped_triangles,
             },
@@ -66,12 +69,13 @@ impl Map {
 
 impl Method {
     /// Every method, `Auto` first.
-    pub const ALL: [Method; 10] = [
+    pub const ALL: [Method; 11] = [
         Method::Auto,
         Method::Dem,
         Method::DemShape,
         Method::Sdem,
         Method::Lsdem,
+        Method::Edem,
         Method::Deq,
         Method::Ldeq,
         Method::Tdem,
@@ -91,6 +95,7 @@ impl Method {
             Method::DemShape => "DEM onto a prescribed shape (see --shape)",
             Method::Sdem => "Spherical DEM of a genus-0 closed surface",
             Method::Lsdem => "Landmark-aligned spherical DEM",
+            Method::Edem => "Ellipsoidal DEM of a genus-0 closed surface (see --ellipsoid)",
             Method::Deq => "Density-equalizing quasiconformal map onto a circle domain",
             Method::Ldeq => "Landmark-matching DEQ",
             Method::Tdem => "Toroidal DEM of a genus-one surface",
@@ -109,6 +114,7 @@ impl Method {
             Method::DemShape => "dem-shape",
             Method::Sdem => "sdem",
             Method::Lsdem => "lsdem",
+            Method::Edem => "edem",
             Method::Deq => "deq",
             Method::Ldeq => "ldeq",
             Method::Tdem => "tdem",
@@ -118,13 +124,21 @@ impl Method {
     }
 
     /// `Auto` resolved for a surface with `boundaries` loops and `genus`, with or without
-    /// landmarks: disk → DEM (LDEQ), holes → DEQ (LDEQ), genus-0 closed → SDEM (LSDEM),
-    /// genus one → TDEM; any other method is returned as it is.
-    pub fn resolve(self, boundaries: usize, genus: i64, landmarks: bool) -> Result<Method> {
+    /// landmarks and a target ellipsoid: disk → DEM (LDEQ), holes → DEQ (LDEQ), genus-0
+    /// closed → SDEM (LSDEM; EDEM onto an ellipsoid), genus one → TDEM; any other method is
+    /// returned as it is.
+    pub fn resolve(
+        self,
+        boundaries: usize,
+        genus: i64,
+        landmarks: bool,
+        ellipsoid: bool,
+    ) -> Result<Method> {
         if self != Method::Auto {
             return Ok(self);
         }
         Ok(match (boundaries, genus, landmarks) {
+            (0, 0, false) if ellipsoid => Method::Edem,
             (1, 0, false) => Method::Dem,
             (b, 0, false) if b > 1 => Method::Deq,
             (b, 0, true) if b >= 1 => Method::Ldeq,
@@ -148,6 +162,12 @@ impl Method {
             self,
             Method::Sdem | Method::Lsdem | Method::SphericalConformal
         )
+    }
+
+    /// True for the methods whose map lies on the unit sphere or an ellipsoid: a closed
+    /// surface around the origin, star-shaped from it.
+    pub fn maps_onto_closed_surface(self) -> bool {
+        self.maps_onto_sphere() || matches!(self, Method::Edem)
     }
 }
 
@@ -175,6 +195,8 @@ pub struct MapOptions {
     pub landmarks: Vec<(usize, [f64; 3])>,
     /// TDEM's target torus, in input units.
     pub torus: Option<Torus>,
+    /// EDEM's target ellipsoid (any radii: the domain's own size, not input units).
+    pub ellipsoid: Option<Ellipsoid>,
     /// DEM-shape's target shape (default: the disk).
     pub shape: Option<Shape>,
     /// LSDEM's α, β, γ; DEQ's α.
@@ -206,6 +228,16 @@ pub enum Domain {
     },
     /// The unit sphere.
     Sphere,
+    /// The ellipsoid x²/a² + y²/b² + z²/c² = 1: EDEM (the radii asked for), EDEQ (the radii it
+    /// chose).
+    Ellipsoid {
+        /// Semi-axis along x.
+        a: f64,
+        /// Semi-axis along y.
+        b: f64,
+        /// Semi-axis along z.
+        c: f64,
+    },
     /// A torus of revolution about the z axis, in input units.
     Torus {
         /// The torus.
@@ -214,6 +246,19 @@ pub enum Domain {
         /// units, from which the positions are projected.
         flat: FlatTorusMap,
     },
+}
+
+impl Domain {
+    /// The domain's name, as the report spells it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Domain::Plane => "plane",
+            Domain::CircleDomain { .. } => "circle-domain",
+            Domain::Sphere => "sphere",
+            Domain::Ellipsoid { .. } => "ellipsoid",
+            Domain::Torus { .. } => "torus",
+        }
+    }
 }
 
 /// A computed map.
@@ -254,6 +299,7 @@ pub fn map_with_progress(
         topo.boundary_loops.len(),
         topo.genus,
         !options.landmarks.is_empty(),
+        options.ellipsoid.is_some(),
     )?;
     let from_spec = |spec| face_populations_at_scale(&spec, mesh, surface.exponent());
     let face_population = unit_scale(&match population {
@@ -275,11 +321,18 @@ pub fn map_with_progress(
     };
     let loops = &topo.boundary_loops;
     let (domain, measured) = domain_of(method, &result, &mapped, loops, torus, options.torus);
+    // Maps onto an ellipsoid are measured at the size they were computed at (any radii work).
+    let at_unit_size = |x: &[[f64; 3]]| {
+        let k = result.ellipsoid.map_or(0, |e| e.normalizing_exponent());
+        let mut x = x.to_vec();
+        crate::mesh::scale::scale_positions(&mut x, k);
+        x
+    };
     let metrics = crate::metrics::compute(
         &mapped,
         &population,
-        &result.initial,
-        &result.positions,
+        &at_unit_size(&result.initial),
+        &at_unit_size(&result.positions),
         measured,
         (!options.landmarks.is_empty()).then_some(&options.landmarks[..]),
     );
@@ -347,6 +400,20 @@ fn run_method(
             c.dt = o.dt.or(c.dt);
             sdem::run(mesh, population, &c, progress)
         }
+        Method::Edem => {
+            let Some(ellipsoid) = o.ellipsoid else {
+                return Err(Error::Argument(
+                    "edem needs the target ellipsoid (radii a, b, c > 0)".into(),
+                ));
+            };
+            let mut c = edem::Config {
+                ellipsoid,
+                ..Default::default()
+            };
+            common(&mut c.epsilon, &mut c.max_iter);
+            c.dt = o.dt.or(c.dt);
+            edem::run(mesh, population, &c, progress)
+        }
         Method::Lsdem => {
             let mut c = lsdem::Config::default();
             common(&mut c.epsilon, &mut c.max_iter);
@@ -394,6 +461,10 @@ fn domain_of(
         let flat = flat.clone();
         return (Domain::Torus { torus, flat }, Measured::Torus { flipped });
     }
+    if let Some(e) = result.ellipsoid {
+        let [a, b, c] = e.radii();
+        return (Domain::Ellipsoid { a, b, c }, Measured::Sphere);
+    }
     if method.maps_onto_sphere() {
         return (Domain::Sphere, Measured::Sphere);
     }
@@ -424,10 +495,17 @@ mod tests {
             (0, 1, false, Method::Tdem),
         ];
         for (b, g, l, m) in cases {
-            assert_eq!(Method::Auto.resolve(b, g, l).unwrap(), m);
+            assert_eq!(Method::Auto.resolve(b, g, l, false).unwrap(), m);
         }
-        assert!(Method::Auto.resolve(0, 2, false).is_err());
-        assert_eq!(Method::Sdem.resolve(1, 0, false).unwrap(), Method::Sdem);
+        assert!(Method::Auto.resolve(0, 2, false, false).is_err());
+        assert_eq!(
+            Method::Sdem.resolve(1, 0, false, false).unwrap(),
+            Method::Sdem
+        );
+        assert_eq!(
+            Method::Auto.resolve(0, 0, false, true).unwrap(),
+            Method::Edem
+        );
     }
 
     #[test]

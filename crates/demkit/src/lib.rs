@@ -66,6 +66,7 @@ pub(crate) mod linalg;
 pub mod mesh;
 pub mod methods;
 pub mod metrics;
+mod optimize;
 pub mod population;
 #[cfg(feature = "internals")]
 pub mod qc;

@@ -71,6 +71,13 @@ pub struct Report {
     pub method: String,
     /// The input surface.
     pub input: InputSummary,
+    /// Where the map lies: `"plane"`, `"circle-domain"`, `"sphere"`, `"ellipsoid"` or
+    /// `"torus"`.
+    pub domain: String,
+    /// The ellipsoid's radii `[a, b, c]`, for maps onto an ellipsoid (EDEQ's are the ones it
+    /// chose).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub radii: Option<[f64; 3]>,
     /// False when the iteration limit ran out.
     pub converged: bool,
     /// `"tolerance"`, `"stationary"` or `"max_iter"`.
@@ -95,6 +102,11 @@ impl Map {
         Report {
             method: result.method.to_string(),
             input: InputSummary::of_surface(surface),
+            domain: self.domain.name().to_string(),
+            radii: match self.domain {
+                crate::Domain::Ellipsoid { a, b, c } => Some([a, b, c]),
+                _ => None,
+            },
             converged: result.converged,
             stop_reason: result.stop_reason.as_str().to_string(),
             iterations: result.iterations,

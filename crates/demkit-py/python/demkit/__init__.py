@@ -1,7 +1,7 @@
 """demkit: density-equalizing maps of triangle meshes.
 
 numpy in, numpy out. ``demkit.map(v, f)`` maps a surface onto its standard domain (the plane,
-a circle domain, the unit sphere or a torus) so that a population per face becomes uniform per
+a circle domain, the unit sphere, an ellipsoid or a torus) so that a population per face becomes uniform per
 unit area; population "area" gives an area-preserving parameterization. The computation runs
 in Rust with the GIL released, so threads map several meshes at once.
 """
@@ -41,14 +41,16 @@ __version__ = "0.1.0"
 class Domain:
     """Where a map lies.
 
-    kind     "plane", "circle_domain", "sphere" or "torus"
+    kind     "plane", "circle_domain", "sphere", "ellipsoid" or "torus"
     circles  circle domain: ((cx, cy), r) of every hole, in boundary-loop order (outer circle left out)
     torus    torus: (R, r), the radii in input units
+    radii    ellipsoid: (a, b, c), its semi-axes along x, y, z (edeq: the ones it chose)
     """
 
     kind: str
     circles: Tuple[Tuple[Tuple[float, float], float], ...] = ()
     torus: Optional[Tuple[float, float]] = None
+    radii: Optional[Tuple[float, float, float]] = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -211,18 +213,25 @@ def _progress(progress: Any, label: str) -> Tuple[Optional[Callable], Callable[[
     raise InputError("progress must be True, False or a callable taking (iteration, error)")
 
 
-def _request(vertices, faces, population, method, landmarks, torus, shape, alpha, beta, gamma, dt, epsilon, max_iter, fixed_holes) -> dict:
+def _numbers(value: Any, n: int, name: str, form: str) -> Optional[tuple]:
+    """A tuple of n floats from a sequence (None stays None); InputError naming the option."""
+    if value is None:
+        return None
+    try:
+        if len(value) != n:
+            raise ValueError
+        return tuple(float(x) for x in value)
+    except (TypeError, ValueError, IndexError):
+        raise InputError(f"{name} must be {form}, got {value!r}") from None
+
+
+def _request(vertices, faces, population, method, landmarks, torus, shape, alpha, beta, gamma, dt, epsilon, max_iter, fixed_holes, ellipsoid=None) -> dict:
     """The arguments of map() checked and converted into the native module's request dict."""
     v, f = _mesh_args(vertices, faces)
     pop, values = _population(population)
     idx, targets = _landmarks(landmarks)
-    if torus is not None:
-        try:
-            if len(torus) != 2:
-                raise ValueError
-            torus = (float(torus[0]), float(torus[1]))
-        except (TypeError, ValueError, IndexError):
-            raise InputError(f"torus must be (R, r) with numbers R > r > 0, got {torus!r}") from None
+    torus = _numbers(torus, 2, "torus", "(R, r) with numbers R > r > 0")
+    ellipsoid = _numbers(ellipsoid, 3, "ellipsoid", "(a, b, c) with numbers a, b, c > 0")
     if max_iter is not None and (not isinstance(max_iter, (int, np.integer)) or max_iter < 0):
         raise InputError(f"max_iter must be a non-negative integer, got {max_iter!r}")
     floats = dict(alpha=alpha, beta=beta, gamma=gamma, dt=dt, epsilon=epsilon)
@@ -241,6 +250,7 @@ def _request(vertices, faces, population, method, landmarks, torus, shape, alpha
         landmark_indices=idx,
         landmark_targets=targets,
         torus=torus,
+        ellipsoid=ellipsoid,
         shape=shape,
         max_iter=None if max_iter is None else int(max_iter),
         fixed_holes=bool(fixed_holes),
@@ -267,6 +277,7 @@ def map(
     max_iter: Optional[int] = None,
     progress: Union[bool, Callable[[int, float], Any]] = False,
     fixed_holes: bool = False,
+    ellipsoid: Optional[Tuple[float, float, float]] = None,
 ) -> Map:
     """Density-equalizing map of a triangle mesh (``demkit map``).
 
@@ -274,7 +285,7 @@ def map(
         vertices    (n, 3) or (n, 2) float32/float64 positions, any memory order; or an object with .vertices and .faces
         faces       (m, 3) integer vertex indices, counter-clockwise (any integer dtype)
         population  "area", "uniform", an expression of the face centroid x, y, z and its area, or (m,) values
-        method      "auto" (by topology), "dem", "dem-shape", "sdem", "lsdem", "deq", "ldeq", "tdem", "spherical-conformal", "circle-conformal"
+        method      "auto" (by topology), "dem", "dem-shape", "sdem", "lsdem", "edem", "deq", "ldeq", "tdem", "spherical-conformal", "circle-conformal"
         landmarks   (indices (k,), targets (k, 2|3)) or a (k, 3|4) array of rows "index x y [z]"
         torus       (R, r) target torus of tdem, R > r > 0
         shape       target of dem-shape: "disk", "square", "rectangle:W:H", "ellipse:A:B"
@@ -286,6 +297,7 @@ def map(
         max_iter    iteration limit
         progress    True for a tqdm bar, or a callable receiving (iteration, error)
         fixed_holes deq/ldeq: keep every hole on its initial circle
+        ellipsoid   (a, b, c) target ellipsoid of edem (with method "auto", a genus-0 closed surface is mapped by edem)
 
     Returns:
         Map with .vertices (n, 3) float64, .initial, .report, .method, .converged, .stop_reason, .domain, .flipped_triangles
@@ -294,7 +306,7 @@ def map(
         InputError      bad input (the message names the face, vertex or option)
         NumericalError  a numerical step failed
     """
-    request = _request(vertices, faces, population, method, landmarks, torus, shape, alpha, beta, gamma, dt, epsilon, max_iter, fixed_holes)
+    request = _request(vertices, faces, population, method, landmarks, torus, shape, alpha, beta, gamma, dt, epsilon, max_iter, fixed_holes, ellipsoid)
     callback, close = _progress(progress, str(method))
     try:
         out = _demkit.map(request, callback)
@@ -307,6 +319,7 @@ def map(
         kind=d["kind"],
         circles=tuple((tuple(c), r) for c, r in d.get("circles", ())),
         torus=tuple(d["torus"]) if "torus" in d else None,
+        radii=tuple(d["radii"]) if "radii" in d else None,
     )
     return Map(
         vertices=out["vertices"],
@@ -332,6 +345,7 @@ def remesh(
     epsilon: Optional[float] = None,
     max_iter: Optional[int] = None,
     progress: Union[bool, Callable[[int, float], Any]] = False,
+    ellipsoid: Optional[Tuple[float, float, float]] = None,
 ) -> Tuple[np.ndarray, np.ndarray]:
     """New triangulation laid out through the density-equalizing map (``demkit remesh``).
 
@@ -343,6 +357,7 @@ def remesh(
         method      the map's method ("auto" by topology)
         landmarks   as in map()
         torus       (R, r) for genus-one surfaces
+        ellipsoid   (a, b, c) for a map onto an ellipsoid (edem)
         alpha       energy weight (deq default: the remeshing value)
         epsilon     stopping tolerance of the map
         max_iter    iteration limit of the map
@@ -354,7 +369,7 @@ def remesh(
     """
     if not isinstance(n_vertices, (int, np.integer)) or n_vertices < 0:
         raise InputError(f"n_vertices must be a non-negative integer, got {n_vertices!r}")
-    request = _request(vertices, faces, population, method, landmarks, torus, None, alpha, None, None, None, epsilon, max_iter, False)
+    request = _request(vertices, faces, population, method, landmarks, torus, None, alpha, None, None, None, epsilon, max_iter, False, ellipsoid)
     callback, close = _progress(progress, "remesh")
     try:
         return _demkit.remesh(request, int(n_vertices), callback)

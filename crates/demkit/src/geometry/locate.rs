@@ -141,6 +141,97 @@ impl SphericalLocator {
     }
 }
 
+/// Point location in a map onto the unit sphere by walking from face to face: from a face
+/// near the answer (a query close to the last one, say), a few steps find it, whatever the
+/// spread of the faces' sizes (a conformal map's faces differ in size by many orders, which a
+/// grid of uniform cells serves badly). Each step crosses the edge whose great circle has the
+/// point farthest on its outer side; a walk that has not arrived after as many steps as there
+/// are faces (a cycle, possible in a triangulation far from Delaunay) ends in a scan of every
+/// face.
+#[derive(Debug, Clone)]
+pub struct SphericalWalk {
+    corners: Vec<[[f64; 3]; 3]>,
+    /// The face across the edge opposite each corner (`u32::MAX` on a boundary).
+    neighbours: Vec<[u32; 3]>,
+}
+
+impl SphericalWalk {
+    /// The walk over the faces of the map `points` (on the unit sphere, faces counter-clockwise
+    /// seen from outside).
+    pub fn new(points: &[[f64; 3]], faces: &[[u32; 3]]) -> Self {
+        let corners = faces
+            .iter()
+            .map(|f| f.map(|v| points[v as usize]))
+            .collect();
+        let mut neighbours = vec![[u32::MAX; 3]; faces.len()];
+        let n = crate::mesh::topology::vertex_bound(points.len(), faces);
+        crate::mesh::topology::EdgeGroups::new(n, faces).for_each_edge(|_, _, hes| {
+            if let [h, g] = *hes {
+                // Half-edge 3f + c runs from corner c to c + 1: it is opposite corner c + 2.
+                let (fh, fg) = ((h / 3) as usize, (g / 3) as usize);
+                neighbours[fh][((h % 3 + 2) % 3) as usize] = fg as u32;
+                neighbours[fg][((g % 3 + 2) % 3) as usize] = fh as u32;
+            }
+        });
+        Self {
+            corners,
+            neighbours,
+        }
+    }
+
+    /// The number of faces.
+    pub fn len(&self) -> usize {
+        self.corners.len()
+    }
+
+    /// True without faces.
+    pub fn is_empty(&self) -> bool {
+        self.corners.is_empty()
+    }
+
+    /// The face whose cone from the centre contains the direction `p` and the barycentric
+    /// coordinates of the ray's crossing with it (as [`SphericalLocator::locate`]), walking
+    /// from face `start`; `None` when no face contains it.
+    pub fn locate_from(&self, p: [f64; 3], start: usize) -> Option<Location> {
+        let n = dist2(p, [0.0; 3]).sqrt();
+        if !(n > 0.0) || self.corners.is_empty() {
+            return None;
+        }
+        let p = p.map(|x| x / n);
+        let mut f = start.min(self.corners.len() - 1);
+        for _ in 0..self.corners.len() {
+            let [a, b, c] = self.corners[f];
+            let w = [det(p, b, c), det(a, p, c), det(a, b, p)];
+            let k = (0..3).min_by(|&i, &j| w[i].total_cmp(&w[j])).unwrap_or(0);
+            let sum = w[0] + w[1] + w[2];
+            if w[k] >= -TOLERANCE * sum.abs() && sum > 0.0 {
+                return finish(Some((
+                    w[k] / sum,
+                    Location {
+                        face: f,
+                        weights: w.map(|x| x / sum),
+                    },
+                )));
+            }
+            let next = self.neighbours[f][k];
+            if next == u32::MAX {
+                break;
+            }
+            f = next as usize;
+        }
+        // No arrival: every face.
+        let mut best: Option<(f64, Location)> = None;
+        for (f, &[a, b, c]) in self.corners.iter().enumerate() {
+            let w = [det(p, b, c), det(a, p, c), det(a, b, p)];
+            let sum = w[0] + w[1] + w[2];
+            if sum > 0.0 {
+                consider(&mut best, f, w.map(|x| x / sum));
+            }
+        }
+        finish(best)
+    }
+}
+
 /// Point location in a map onto the flat torus: points are taken modulo the periods.
 #[derive(Debug, Clone)]
 pub struct PeriodicLocator {
@@ -278,6 +369,31 @@ impl FaceGrid {
             return &[];
         }
         self.0.at(cells.cell_of(p))
+    }
+}
+
+#[cfg(test)]
+mod walk_tests {
+    use super::*;
+    use crate::geometry::sphere::normalize;
+
+    #[test]
+    fn the_walk_finds_what_the_grid_finds() {
+        let mesh = crate::generate::icosphere(4).unwrap();
+        let grid = SphericalLocator::new(&mesh.positions, &mesh.faces);
+        let walk = SphericalWalk::new(&mesh.positions, &mesh.faces);
+        for i in 0..300 {
+            let t = i as f64 * 0.7071;
+            let p = normalize([t.sin(), (1.3 * t).cos(), (0.37 * t).sin() - 0.2]);
+            let a = grid.locate(p).unwrap();
+            // From a far face, and from the face found.
+            for start in [0, (i * 97) % walk.len(), a.face] {
+                let b = walk.locate_from(p, start).unwrap();
+                let q = |l: &Location| interpolate(&mesh.positions, mesh.faces[l.face], l.weights);
+                let d = dist2(q(&a), q(&b)).sqrt();
+                assert!(d < 1e-12, "{i}: {d}");
+            }
+        }
     }
 }
 

@@ -2,6 +2,7 @@
 //! Positions are `[f64; 3]` everywhere (planar maps use z = 0), so every operator has one
 //! implementation for surfaces and for planar maps.
 
+pub mod ellipsoid;
 pub(crate) mod grid;
 pub mod locate;
 mod plane;

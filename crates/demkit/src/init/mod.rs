@@ -7,6 +7,7 @@
 pub mod boundary_flattening;
 pub mod circle_domain;
 pub mod disk_mobius;
+pub mod ellipsoidal_conformal;
 pub mod genus_one;
 pub mod mobius;
 pub mod sea;

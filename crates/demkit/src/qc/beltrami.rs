@@ -84,6 +84,17 @@ pub fn beltrami_coefficient_surface(
     per_face(surface, target, faces, local_frame, planar)
 }
 
+/// Beltrami coefficient per face of the map from the planar mesh `plane` (x, y) to a surface
+/// in R³ with the same connectivity (each triangle in its own orthonormal frame,
+/// [`local_frame`]), e.g. of a stereographic map onto an ellipsoid.
+pub fn beltrami_coefficient_plane_to_surface(
+    plane: &[[f64; 3]],
+    surface: &[[f64; 3]],
+    faces: &[[u32; 3]],
+) -> Vec<Complex64> {
+    per_face(plane, surface, faces, planar, local_frame)
+}
+
 /// Beltrami coefficient per face of the map between two surfaces in R³ with the same
 /// connectivity (e.g. the input surface and its spherical image), each triangle in its own
 /// orthonormal frame ([`local_frame`], counter-clockwise with respect to the face order).

@@ -18,7 +18,8 @@ enum Locator {
 }
 
 /// A chart: the input surface over the domain of its map. Domain points are `[f64; 3]`: z = 0
-/// in the plane and on the flat torus, unit vectors on the sphere.
+/// in the plane and on the flat torus, unit vectors on the sphere (on an ellipsoid, the map's
+/// image on the unit sphere).
 pub struct Chart<'a> {
     input: &'a TriMesh,
     locator: Locator,
@@ -70,6 +71,10 @@ impl<'a> Chart<'a> {
                 corners: face_corners(mapped, faces),
                 points: mapped.to_vec(),
             },
+            Target::Ellipsoid(e) => {
+                let on_sphere: Vec<[f64; 3]> = mapped.iter().map(|&p| e.to_sphere(p)).collect();
+                Self::new(input, &on_sphere, Target::Sphere)
+            }
             Target::Torus { map, torus } => {
                 let period = torus.periods();
                 Chart {

@@ -7,7 +7,7 @@
 //! per unit area is higher.
 //!
 //! - [`planar`]: disk and circle-domain maps (boundaries and holes kept);
-//! - [`sphere`]: maps onto the unit sphere;
+//! - [`sphere`]: maps onto the unit sphere or an ellipsoid;
 //! - [`torus`]: maps onto the flat torus;
 //! - `adaptive`: a Poisson-disk layout for planar maps that equalize the density only roughly;
 //! - `relax`: flips and smoothing in the domain that improve the triangles' shapes on the
@@ -31,6 +31,7 @@ pub mod torus;
 
 use chart::{Chart, ChartPoint};
 
+use crate::geometry::ellipsoid::Ellipsoid;
 use crate::geometry::torus::{FlatTorusMap, Torus};
 use crate::mesh::topology::topology;
 use crate::{Error, Result, TriMesh};
@@ -42,6 +43,8 @@ pub enum Target<'a> {
     Plane,
     /// A map onto the unit sphere.
     Sphere,
+    /// A map onto an ellipsoid (its positions on the ellipsoid).
+    Ellipsoid(Ellipsoid),
     /// A map onto the flat torus of `torus`.
     Torus {
         /// The map (points and lattice offsets).
@@ -52,7 +55,8 @@ pub enum Target<'a> {
 }
 
 /// Points in a map's domain and their triangulation, before they are pulled back: z = 0 in the
-/// plane and on the flat torus, unit vectors on the sphere.
+/// plane and on the flat torus, unit vectors on the sphere (for an ellipsoid, the points'
+/// images on the unit sphere).
 #[derive(Debug, Clone)]
 pub struct Layout {
     /// The points in the domain.
@@ -153,7 +157,8 @@ pub fn remesh_with(
         .collect();
     let layout = match target {
         Target::Plane => planar::layout_planar(input, &density, mapped, &topo.boundary_loops, n)?,
-        Target::Sphere => sphere::layout_sphere(n)?,
+        Target::Sphere => sphere::layout_ellipsoid(&Ellipsoid::UNIT_SPHERE, n)?,
+        Target::Ellipsoid(e) => sphere::layout_ellipsoid(&e, n)?,
         Target::Torus { torus, .. } => torus::layout_torus(torus, n),
     };
     let chart = Chart::new(input, mapped, target);

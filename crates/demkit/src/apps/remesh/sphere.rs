@@ -1,16 +1,21 @@
-//! Remeshing through a spherical map (SDEM paper §5.2): near-uniform points on the unit sphere
-//! (a Fibonacci spiral), their Delaunay triangulation (the convex hull), and every point pulled
-//! back onto the input surface through the inverse map.
+//! Remeshing through a spherical map (SDEM paper §5.2) or an ellipsoidal one (EDEM paper §5):
+//! near-uniform points on the unit sphere (a Fibonacci spiral) or the ellipsoid (the same
+//! lattice spread evenly by the ellipsoid's area), their convex hull, and every point pulled
+//! back onto the input surface through the inverse map. The points of an ellipsoid are handled
+//! as their images on the unit sphere: the convex hull of the ellipsoid's points is the linear
+//! image of theirs, and a ray from the centre meets a mapped face on the ellipsoid where its
+//! image meets the face's image.
 
 use super::Layout;
 use crate::Result;
-use crate::geometry::sphere::fibonacci_sphere;
+use crate::geometry::ellipsoid::Ellipsoid;
 use crate::mesh::triangulate::spherical_delaunay;
 
-/// `n` (at least 4) near-uniform points on the unit sphere and their Delaunay triangulation,
-/// faces oriented outward (like the input's on a spherical map).
-pub fn layout_sphere(n: usize) -> Result<Layout> {
-    let points = fibonacci_sphere(n.max(4));
+/// `n` (at least 4) points spread evenly by area over `ellipsoid`, as their images on the unit
+/// sphere ([`Ellipsoid::equal_area_points`]), and their convex hull, faces oriented outward
+/// (like the input's on a spherical or ellipsoidal map).
+pub fn layout_ellipsoid(ellipsoid: &Ellipsoid, n: usize) -> Result<Layout> {
+    let points = ellipsoid.equal_area_points(n.max(4));
     let faces = spherical_delaunay(&points)?;
     Ok(Layout {
         fixed: vec![None; points.len()],

@@ -57,37 +57,14 @@ pub fn area_balanced_shift(
             .map(|d| (d.0 - (area(d).ln() - log_sum)).abs())
             .sum::<f64>()
     };
+    // The samples over one period, then the golden-section refinement.
     let step = TAU * torus.minor / SAMPLES as f64;
-    let mut best = (0.0, distortion(0.0));
-    for i in 1..SAMPLES {
-        let t = step * i as f64;
-        let d = distortion(t);
-        if d < best.1 {
-            best = (t, d);
-        }
-    }
-    // Golden-section search in the bracket around the best sample.
-    let g = (5f64.sqrt() - 1.0) / 2.0;
-    let (mut lo, mut hi) = (best.0 - step, best.0 + step);
-    let mut x1 = hi - g * (hi - lo);
-    let mut x2 = lo + g * (hi - lo);
-    let (mut d1, mut d2) = (distortion(x1), distortion(x2));
-    for _ in 0..REFINEMENTS {
-        if d1 < d2 {
-            hi = x2;
-            x2 = x1;
-            d2 = d1;
-            x1 = hi - g * (hi - lo);
-            d1 = distortion(x1);
-        } else {
-            lo = x1;
-            x1 = x2;
-            d1 = d2;
-            x2 = lo + g * (hi - lo);
-            d2 = distortion(x2);
-        }
-    }
-    let (t, d) = if d1 < d2 { (x1, d1) } else { (x2, d2) };
-    let t = if d < best.1 { t } else { best.0 };
+    let (t, _) = crate::optimize::sampled_golden_section(
+        distortion,
+        0.0,
+        step * (SAMPLES - 1) as f64,
+        SAMPLES,
+        REFINEMENTS,
+    );
     t.rem_euclid(period[1])
 }

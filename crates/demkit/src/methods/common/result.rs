@@ -60,6 +60,9 @@ pub struct MapResult {
     /// For maps onto a torus: the final map on the flat torus (points and lattice
     /// translations), from which `positions` is projected; flips are counted on it.
     pub flat_torus: Option<crate::geometry::torus::FlatTorusMap>,
+    /// For maps onto an ellipsoid (EDEM, EDEQ): the ellipsoid, in the radii asked for (EDEQ's
+    /// are the ones it chose); `positions` lie on it.
+    pub ellipsoid: Option<crate::geometry::ellipsoid::Ellipsoid>,
     /// The surface the map is of, when the method had to refine its input (DEQ: the chords of
     /// holes split, [`deq`]); `positions` and `initial` then follow its vertices, the input's
     /// first in their order.
@@ -105,6 +108,7 @@ impl MapResult {
             time_map: 0.0,
             notes: Vec::new(),
             flat_torus: None,
+            ellipsoid: None,
             refined: None,
             objective: None,
         }

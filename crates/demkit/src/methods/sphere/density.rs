@@ -1,10 +1,10 @@
-//! Density diffusion on the sphere (SDEM paper §3.1.2): the operators of one iteration, built
-//! once per mesh (sparsity pattern and symbolic Cholesky analysis) and refactored numerically
-//! every iteration with the current A_n and L_n.
+//! Density diffusion on the sphere (SDEM paper §3.1.2) or an ellipsoid (EDEM paper §3.2): the
+//! operators of one iteration, built once per mesh (sparsity pattern and symbolic Cholesky
+//! analysis) and refactored numerically every iteration with the current A_n and L_n.
 
-use super::overlap::tangential;
 use crate::Result;
 use crate::fem::{DiffusionOperator, REFACTOR_DRIFT, VertexFaces, face_gradient};
+use crate::geometry::ellipsoid::Ellipsoid;
 use crate::geometry::face_areas;
 use crate::linalg::VertexOrder;
 use crate::metrics::{log_area_misfit, normalized_variance};
@@ -25,8 +25,10 @@ pub(crate) struct Density {
     pub direction: std::cell::RefCell<Option<Vec<[f64; 3]>>>,
 }
 
-/// The diffusion operators of one mesh.
+/// The diffusion operators of one mesh mapped onto one domain.
 pub(crate) struct SphereDiffusion<'a> {
+    /// Where the maps lie: velocities are taken tangential to it.
+    domain: Ellipsoid,
     faces: &'a [[u32; 3]],
     population: &'a [f64],
     incidence: VertexFaces,
@@ -36,9 +38,10 @@ pub(crate) struct SphereDiffusion<'a> {
 }
 
 impl<'a> SphereDiffusion<'a> {
-    /// The operators of `faces` on `n` vertices; `order`: the mesh's elimination order, if the
-    /// caller has one.
+    /// The operators of `faces` on `n` vertices mapped onto `domain`; `order`: the mesh's
+    /// elimination order, if the caller has one.
     pub(crate) fn new(
+        domain: Ellipsoid,
         n: usize,
         faces: &'a [[u32; 3]],
         population: &'a [f64],
@@ -46,6 +49,7 @@ impl<'a> SphereDiffusion<'a> {
     ) -> Result<Self> {
         let incidence = VertexFaces::new(n, faces);
         Ok(Self {
+            domain,
             faces,
             population,
             vertex_population: incidence.sum(population),
@@ -86,7 +90,8 @@ impl<'a> SphereDiffusion<'a> {
     }
 
     /// The tangential velocity (3.12)–(3.13) after one diffusion step of length `dt` (3.9)
-    /// from the density `d` of `map`: `ṽ = −(W^FV ∇ρ) / ρ`, minus its normal component.
+    /// from the density `d` of `map`: `ṽ = −(W^FV ∇ρ) / ρ`, minus its component along the
+    /// domain's normal.
     /// `dt = 0` takes the velocity of ρ_V itself.
     pub(crate) fn velocity(&self, map: &[[f64; 3]], d: &Density, dt: f64) -> Result<Vec<[f64; 3]>> {
         let rho = if dt > 0.0 {
@@ -96,11 +101,12 @@ impl<'a> SphereDiffusion<'a> {
         };
         let grad_f = face_gradient(map, self.faces, &rho);
         let grad_v = self.incidence.apply_vec(&d.areas, &grad_f);
+        let domain = self.domain;
         Ok(grad_v
             .par_iter()
             .zip(rho.par_iter())
             .zip(map.par_iter())
-            .map(|((g, r), &p)| tangential([-g[0] / r, -g[1] / r, -g[2] / r], p))
+            .map(|((g, r), &p)| domain.tangential([-g[0] / r, -g[1] / r, -g[2] / r], p))
             .collect())
     }
 

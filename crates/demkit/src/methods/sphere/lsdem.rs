@@ -22,7 +22,8 @@
 
 use super::density::SphereDiffusion;
 use super::input::{check_sphere_input, initial_sphere_map};
-use super::overlap::{OverlapCorrector, advance, tangential};
+use super::overlap::{OverlapCorrector, advance};
+use crate::geometry::ellipsoid::Ellipsoid;
 use crate::geometry::rotation::optimal_rotation;
 use crate::geometry::sphere::{mat_vec, normalize};
 use crate::geometry::{norm, sub};
@@ -136,8 +137,14 @@ pub fn run(
     let faces = &mesh.faces;
     let targets: Vec<[f64; 3]> = landmarks.iter().map(|l| normalize(l.1)).collect();
     let mut flow = LandmarkFlow {
-        diffusion: SphereDiffusion::new(initial.len(), faces, population, Some(&order))?,
-        corrector: OverlapCorrector::new(&initial, faces),
+        diffusion: SphereDiffusion::new(
+            Ellipsoid::UNIT_SPHERE,
+            initial.len(),
+            faces,
+            population,
+            Some(&order),
+        )?,
+        corrector: OverlapCorrector::new(Ellipsoid::UNIT_SPHERE, &initial, faces),
         faces,
         landmarks,
         targets: &targets,
@@ -242,7 +249,7 @@ impl Flow for LandmarkFlow<'_> {
             .into_par_iter()
             .map(|i| {
                 let target = [rhs[i], rhs[n + i], rhs[2 * n + i]];
-                tangential(sub(target, x[i]), x[i])
+                Ellipsoid::UNIT_SPHERE.tangential(sub(target, x[i]), x[i])
             })
             .collect();
         // (3.33), overlap correction, recoupling (the density is re-derived from the map at the

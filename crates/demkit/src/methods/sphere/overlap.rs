@@ -1,5 +1,8 @@
 //! Bijectivity on the sphere: the overlap correction of the SDEM paper (§3.1.3) and a step
-//! that never returns a flipped map.
+//! that never returns a flipped map. The same serves maps onto an ellipsoid (EDEM paper §3.3):
+//! the orientation test is the sphere's ([`crate::geometry::ellipsoid`]), and the correction
+//! works on the map's image on the unit sphere through `M⁻¹ = diag(1/a, 1/b, 1/c)`, as the
+//! paper's does.
 //!
 //! The correction works on a patch around the flipped faces (their corners and a few rings of
 //! neighbours): rotate the initial map S₀ and the current map Sₙ so that the patch sits at the
@@ -14,22 +17,26 @@
 //! and tried again.
 
 use crate::fem::VertexFaces;
+use crate::geometry::ellipsoid::Ellipsoid;
 use crate::geometry::sphere::{
     mat_t_vec, mat_vec, normalize, project_from_north, rotation_to_north, spherical_flipped,
     spherical_orientation, unproject_from_north,
 };
-use crate::geometry::{add, dot, scale};
+use crate::geometry::{add, scale};
 use crate::qc::{LinearBeltramiSolver, beltrami_coefficient, truncate};
 use rayon::prelude::*;
 
 /// The truncation parameter δ of (3.19).
 const DELTA: f64 = 0.1;
 
-/// The overlap correction for one mesh and one (flip-free) initial map.
+/// The overlap correction for one mesh and one (flip-free) initial map onto one domain.
 pub(crate) struct OverlapCorrector {
     faces: Vec<[u32; 3]>,
+    /// The initial map's image on the unit sphere.
     initial: Vec<[f64; 3]>,
     incidence: VertexFaces,
+    /// Where the maps lie: the unit sphere or an ellipsoid.
+    domain: Ellipsoid,
 }
 
 fn flipped_faces(map: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<usize> {
@@ -42,11 +49,14 @@ fn flipped_faces(map: &[[f64; 3]], faces: &[[u32; 3]]) -> Vec<usize> {
 }
 
 impl OverlapCorrector {
-    pub(crate) fn new(initial: &[[f64; 3]], faces: &[[u32; 3]]) -> Self {
+    /// The correction of maps of `faces` onto `domain` from the flip-free map `initial` (on
+    /// `domain`).
+    pub(crate) fn new(domain: Ellipsoid, initial: &[[f64; 3]], faces: &[[u32; 3]]) -> Self {
         Self {
             faces: faces.to_vec(),
-            initial: initial.to_vec(),
+            initial: initial.iter().map(|&p| domain.to_sphere(p)).collect(),
             incidence: VertexFaces::new(initial.len(), faces),
+            domain,
         }
     }
 
@@ -212,23 +222,28 @@ impl OverlapCorrector {
         if !fixed.iter().any(|&x| x) {
             return false;
         }
-        let centre = |m: &[[f64; 3]]| {
+        // The current map's patch on the unit sphere.
+        let sphere: Vec<[f64; 3]> = verts
+            .iter()
+            .map(|&v| self.domain.to_sphere(map[v]))
+            .collect();
+        let centre = |m: &dyn Fn(usize) -> [f64; 3]| {
             let mut c = [0.0; 3];
-            for (&v, &fx) in verts.iter().zip(&fixed) {
+            for (k, &fx) in fixed.iter().enumerate() {
                 if !fx {
-                    c = add(c, m[v]);
+                    c = add(c, m(k));
                 }
             }
             normalize(scale(c, -1.0))
         };
         // Rotations sending the patch's centre to the south pole.
-        let r0 = rotation_to_north(centre(&self.initial));
-        let rn = rotation_to_north(centre(map));
+        let r0 = rotation_to_north(centre(&|k| self.initial[verts[k]]));
+        let rn = rotation_to_north(centre(&|k| sphere[k]));
         let d0: Vec<[f64; 3]> = verts
             .iter()
             .map(|&v| mat_vec(&r0, self.initial[v]))
             .collect();
-        let dn: Vec<[f64; 3]> = verts.iter().map(|&v| mat_vec(&rn, map[v])).collect();
+        let dn: Vec<[f64; 3]> = sphere.iter().map(|&p| mat_vec(&rn, p)).collect();
         // The patch must stay well away from the projection's pole.
         if d0.iter().chain(&dn).any(|p| p[2] > 0.5) {
             return false;
@@ -250,7 +265,9 @@ impl OverlapCorrector {
         }
         for (k, &v) in verts.iter().enumerate() {
             if !fixed[k] {
-                map[v] = mat_t_vec(&rn, unproject_from_north(out[k]));
+                map[v] = self
+                    .domain
+                    .from_sphere(mat_t_vec(&rn, unproject_from_north(out[k])));
             }
         }
         true
@@ -303,7 +320,8 @@ pub(crate) struct StepOutcome {
     pub corrected: bool,
 }
 
-/// Moves the flip-free spherical map `map` by the tangent `step` (then back onto the sphere)
+/// Moves the flip-free map `map` onto the corrector's domain by the tangent `step` (then back
+/// onto the domain)
 /// without ever leaving a flipped face: the step; if faces flip, the overlap correction;
 /// if faces still flip, the step halved and tried again (§3.1.3), down to 1/64. If that fails,
 /// every vertex's step is limited to half its shortest edge (then corrected likewise); if that
@@ -317,9 +335,11 @@ pub(crate) fn advance(
     faces: &[[u32; 3]],
     corrector: &OverlapCorrector,
 ) -> StepOutcome {
+    let domain = corrector.domain;
+    let propose = |scale_of: &(dyn Fn(usize) -> f64 + Sync)| propose(&domain, map, step, scale_of);
     let mut tau = 1.0;
     for _ in 0..7 {
-        let mut prop = propose(map, step, |_| tau);
+        let mut prop = propose(&|_| tau);
         if !has_spherical_flip(&prop, faces) {
             *map = prop;
             return StepOutcome {
@@ -330,7 +350,7 @@ pub(crate) fn advance(
         corrector.correct(&mut prop);
         if prop.iter().all(|p| p.iter().all(|x| x.is_finite())) {
             for p in prop.iter_mut() {
-                *p = normalize(*p);
+                *p = domain.project(*p);
             }
             if !has_spherical_flip(&prop, faces) {
                 *map = prop;
@@ -344,12 +364,12 @@ pub(crate) fn advance(
     }
     // A step longer than half the vertex's shortest edge is shortened to that length.
     let limit = corrector.clamp_factors(map, step);
-    let mut prop = propose(map, step, |i| limit[i]);
+    let mut prop = propose(&|i| limit[i]);
     let mean_limit = limit.iter().sum::<f64>() / limit.len().max(1) as f64;
     if has_spherical_flip(&prop, faces) {
         corrector.correct(&mut prop);
         for p in prop.iter_mut() {
-            *p = normalize(*p);
+            *p = domain.project(*p);
         }
     }
     if prop.iter().all(|p| p.iter().all(|x| x.is_finite())) && !has_spherical_flip(&prop, faces) {
@@ -366,7 +386,7 @@ pub(crate) fn advance(
         .map(|(s, &l)| scale(*s, l))
         .collect();
     let damp = local_damping(map, &limited, faces, &corrector.incidence);
-    let prop = propose(map, step, |i| limit[i] * damp[i]);
+    let prop = propose(&|i| limit[i] * damp[i]);
     if !has_spherical_flip(&prop, faces) {
         *map = prop;
         return StepOutcome {
@@ -380,7 +400,7 @@ pub(crate) fn advance(
         .map(|f| collapse_time(f.map(|v| map[v as usize]), f.map(|v| step[v as usize])))
         .reduce(|| f64::INFINITY, f64::min);
     let tau = (0.5 * t_min).min(1.0);
-    let prop = propose(map, step, |_| tau);
+    let prop = propose(&|_| tau);
     if tau > 0.0 && !has_spherical_flip(&prop, faces) {
         *map = prop;
         return StepOutcome {
@@ -394,16 +414,17 @@ pub(crate) fn advance(
     }
 }
 
-/// `map` moved by `step`, vertex `i`'s step scaled by `scale_of(i)`, back onto the sphere.
+/// `map` moved by `step`, vertex `i`'s step scaled by `scale_of(i)`, back onto `domain`.
 fn propose(
+    domain: &Ellipsoid,
     map: &[[f64; 3]],
     step: &[[f64; 3]],
-    scale_of: impl Fn(usize) -> f64 + Sync,
+    scale_of: &(dyn Fn(usize) -> f64 + Sync),
 ) -> Vec<[f64; 3]> {
     map.par_iter()
         .zip(step.par_iter())
         .enumerate()
-        .map(|(i, (&p, &s))| normalize(add(p, scale(s, scale_of(i)))))
+        .map(|(i, (&p, &s))| domain.project(add(p, scale(s, scale_of(i)))))
         .collect()
 }
 
@@ -457,13 +478,6 @@ fn local_damping(
     s
 }
 
-/// Projects `v` onto the tangent plane of the unit sphere at `p` (3.13).
-#[inline]
-pub(crate) fn tangential(v: [f64; 3], p: [f64; 3]) -> [f64; 3] {
-    let n = normalize(p);
-    add(v, scale(n, -dot(v, n)))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -473,7 +487,7 @@ mod tests {
     fn correction_unfolds_a_local_fold() {
         let mesh = icosphere(3).unwrap();
         let faces = &mesh.faces;
-        let corrector = OverlapCorrector::new(&mesh.positions, faces);
+        let corrector = OverlapCorrector::new(Ellipsoid::UNIT_SPHERE, &mesh.positions, faces);
         // Push one vertex just across the far edge of one of its faces: a local fold-over.
         let mut map = mesh.positions.clone();
         let v = 100u32;
@@ -491,7 +505,7 @@ mod tests {
     fn advance_never_flips() {
         let mesh = icosphere(3).unwrap();
         let faces = &mesh.faces;
-        let corrector = OverlapCorrector::new(&mesh.positions, faces);
+        let corrector = OverlapCorrector::new(Ellipsoid::UNIT_SPHERE, &mesh.positions, faces);
         let mut map = mesh.positions.clone();
         // A wild tangent field.
         let step: Vec<[f64; 3]> = map
@@ -499,7 +513,8 @@ mod tests {
             .enumerate()
             .map(|(i, &p)| {
                 let t = i as f64 * 2.399;
-                tangential([0.3 * t.cos(), 0.3 * t.sin(), 0.3 * (3.0 * t).cos()], p)
+                Ellipsoid::UNIT_SPHERE
+                    .tangential([0.3 * t.cos(), 0.3 * t.sin(), 0.3 * (3.0 * t).cos()], p)
             })
             .collect();
         let out = advance(&mut map, &step, faces, &corrector);

@@ -36,7 +36,7 @@
 use super::density::{Density, SphereDiffusion};
 use super::input::{check_sphere_input, initial_sphere_map};
 use super::overlap::{OverlapCorrector, advance};
-use crate::geometry::sphere::normalize;
+use crate::geometry::ellipsoid::Ellipsoid;
 use crate::linalg::VertexOrder;
 use crate::mesh::Locality;
 use crate::methods::iteration::{
@@ -115,7 +115,20 @@ pub fn run(
         )));
     }
     let time_init = t0.elapsed().as_secs_f64();
-    let mut result = equalize(mesh, population, initial, Some(&order), config, progress)?;
+    let on = Target {
+        domain: Ellipsoid::UNIT_SPHERE,
+        method: "sdem",
+        match_areas: false,
+    };
+    let mut result = equalize(
+        on,
+        mesh,
+        population,
+        initial,
+        Some(&order),
+        config,
+        progress,
+    )?;
     result.positions = local.restore_vertices(&result.positions);
     result.initial = local.restore_vertices(&result.initial);
     result.time_init = time_init;
@@ -142,12 +155,31 @@ pub fn run_from(
             "the initial spherical map must have one point per vertex and no flipped face".into(),
         ));
     }
-    equalize(mesh, population, initial, None, config, progress)
+    let on = Target {
+        domain: Ellipsoid::UNIT_SPHERE,
+        method: "sdem",
+        match_areas: false,
+    };
+    equalize(on, mesh, population, initial, None, config, progress)
 }
 
-/// Algorithm 3.1 from `initial`, the inputs already checked by [`run`] or [`run_from`];
-/// `order`: the mesh's elimination order, when the caller has one.
-fn equalize(
+/// Where [`equalize`] maps and what it calls the result.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Target {
+    /// The unit sphere (SDEM) or an ellipsoid (EDEM).
+    pub domain: Ellipsoid,
+    /// The method's report name.
+    pub method: &'static str,
+    /// Whether the map ends with local area matching ([`super::polish`]).
+    pub match_areas: bool,
+}
+
+/// Algorithm 3.1 from `initial` on `on.domain` (the unit sphere, or an ellipsoid: the EDEM
+/// paper's Algorithm 1 is the same iteration with the ellipsoid's normal and projection), the
+/// inputs already checked by the caller; `order`: the mesh's elimination order, when the
+/// caller has one.
+pub(crate) fn equalize(
+    on: Target,
     mesh: &TriMesh,
     population: &[f64],
     initial: Vec<[f64; 3]>,
@@ -159,8 +191,9 @@ fn equalize(
     let t1 = Instant::now();
     let faces = &mesh.faces;
     let mut flow = SphereFlow {
-        diffusion: SphereDiffusion::new(initial.len(), faces, population, order)?,
-        corrector: OverlapCorrector::new(&initial, faces),
+        diffusion: SphereDiffusion::new(on.domain, initial.len(), faces, population, order)?,
+        corrector: OverlapCorrector::new(on.domain, &initial, faces),
+        domain_area: on.domain.area(),
         faces,
         dt: config.dt,
         diffusion_time: config.dt.unwrap_or(0.0),
@@ -179,7 +212,7 @@ fn equalize(
         let out = iterate(&mut flow, initial.clone(), &rules, &mut *progress)?;
         let last = out.history.last().copied().unwrap_or(0.0);
         if out.stop_reason != StopReason::Stationary || last < STALLED * config.epsilon {
-            return Ok(finish(out, initial, &flow, t1, notes));
+            return Ok(finish(on, out, initial, population, &flow, t1, notes));
         }
         // The face misfit stopped improving with the vertex density far from equal: the
         // paper's step from the start, and the better of the two maps.
@@ -206,17 +239,29 @@ fn equalize(
         }
         out = first;
     }
-    Ok(finish(out, initial, &flow, t1, notes))
+    Ok(finish(on, out, initial, population, &flow, t1, notes))
 }
 
-/// The method's result from the iteration's outcome, with the overlap correction's note.
+/// The method's result from the iteration's outcome, with the overlap correction's note (and
+/// the area matching, when `on` asks for it).
 fn finish(
-    out: crate::methods::iteration::Outcome<Vec<[f64; 3]>>,
+    on: Target,
+    mut out: crate::methods::iteration::Outcome<Vec<[f64; 3]>>,
     initial: Vec<[f64; 3]>,
+    population: &[f64],
     flow: &SphereFlow<'_>,
     t1: Instant,
     mut notes: Vec<String>,
 ) -> MapResult {
+    if on.match_areas {
+        let m = super::polish::match_areas(&on.domain, flow.faces, population, &mut out.map);
+        if m.sweeps > 0 {
+            notes.push(format!(
+                "local area matching: {} sweeps took the face misfit from {:.4} to {:.4}",
+                m.sweeps, m.misfit[0], m.misfit[1]
+            ));
+        }
+    }
     notes.push(format!(
         "the diffusion operator was factored {} times in {} iterations",
         flow.diffusion.operator().factorizations(),
@@ -229,14 +274,16 @@ fn finish(
             flow.corrected, flow.moves
         ));
     }
-    let positions = |x: Vec<[f64; 3]>| x.into_iter().map(normalize).collect();
-    out.into_result("sdem", initial, positions, t1, notes)
+    let positions = |x: Vec<[f64; 3]>| x.into_iter().map(|p| on.domain.project(p)).collect();
+    out.into_result(on.method, initial, positions, t1, notes)
 }
 
 /// SDEM's flow (Alg. 3.1 lines 3–8) on the shared skeleton.
 struct SphereFlow<'a> {
     diffusion: SphereDiffusion<'a>,
     corrector: OverlapCorrector,
+    /// The domain's area: the adaptive step's longest step.
+    domain_area: f64,
     faces: &'a [[u32; 3]],
     /// The fixed time step δt, or `None` for the adaptive step.
     dt: Option<f64>,
@@ -266,9 +313,10 @@ impl Flow for SphereFlow<'_> {
         })
     }
 
-    /// The adaptive step's longest step: the sphere's area, the bound (4.39) at uniform density.
+    /// The adaptive step's longest step: the domain's area (4π on the sphere), the bound (4.39)
+    /// at uniform density.
     fn step_cap(&self, _m: &Measured<Density>) -> f64 {
-        4.0 * std::f64::consts::PI
+        self.domain_area
     }
 
     /// (3.9)–(3.14) and the overlap correction: one move of length `h` along the velocity.

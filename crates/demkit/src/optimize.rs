@@ -1,0 +1,81 @@
+//! Derivative-free minimization of functions of one real variable: the few parameters that
+//! initial maps choose by a search (a translation of the flat torus, the dilation of an
+//! ellipsoidal conformal map).
+
+/// The golden ratio's conjugate (√5 − 1)/2: each golden-section step keeps this share of the
+/// bracket.
+const GOLDEN: f64 = 0.618_033_988_749_894_9;
+
+/// The least of `f` over `[lo, hi]`: `samples` evenly spaced values (the ends included, at
+/// least 2), then `refinements` golden-section steps in the bracket around the best sample.
+/// Returns the point and its value; the best sample's when the refinement finds nothing lower
+/// (so a function with several minima gets the sampled grid's best one refined). The bracket
+/// reaches one sample spacing beyond the best sample on both sides, so the refinement may look
+/// that far past an end of the range (for a periodic function, the next period).
+pub(crate) fn sampled_golden_section(
+    f: impl Fn(f64) -> f64,
+    lo: f64,
+    hi: f64,
+    samples: usize,
+    refinements: usize,
+) -> (f64, f64) {
+    let samples = samples.max(2);
+    let step = (hi - lo) / (samples - 1) as f64;
+    let mut best = (lo, f(lo));
+    for i in 1..samples {
+        let t = lo + step * i as f64;
+        let v = f(t);
+        if v < best.1 {
+            best = (t, v);
+        }
+    }
+    let (mut a, mut b) = (best.0 - step, best.0 + step);
+    let mut x1 = b - GOLDEN * (b - a);
+    let mut x2 = a + GOLDEN * (b - a);
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..refinements {
+        if f1 < f2 {
+            b = x2;
+            (x2, f2) = (x1, f1);
+            x1 = b - GOLDEN * (b - a);
+            f1 = f(x1);
+        } else {
+            a = x1;
+            (x1, f1) = (x2, f2);
+            x2 = a + GOLDEN * (b - a);
+            f2 = f(x2);
+        }
+    }
+    let refined = if f1 < f2 { (x1, f1) } else { (x2, f2) };
+    if refined.1 < best.1 { refined } else { best }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_the_minimum_of_a_parabola() {
+        let (x, v) = sampled_golden_section(|t| (t - 0.3) * (t - 0.3) + 2.0, -1.0, 1.0, 9, 40);
+        assert!((x - 0.3).abs() < 1e-7, "{x}");
+        assert!((v - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_samples_pick_the_deeper_of_two_minima() {
+        // Minima near −0.8 (value −1) and 0.6 (value −2).
+        let f =
+            |t: f64| -(-(t + 0.8).powi(2) * 50.0).exp() - 2.0 * (-(t - 0.6).powi(2) * 50.0).exp();
+        let (x, _) = sampled_golden_section(f, -1.0, 1.0, 41, 40);
+        assert!((x - 0.6).abs() < 1e-3, "{x}");
+    }
+
+    #[test]
+    fn the_refinement_looks_one_spacing_past_the_ends() {
+        // Samples 0, 0.25, ..., 1: the best is 0 and the bracket [−0.25, 0.25].
+        let (x, _) = sampled_golden_section(|t| t, 0.0, 1.0, 5, 30);
+        assert!((x + 0.25).abs() < 1e-5, "{x}");
+        let (x, _) = sampled_golden_section(|t| (t + 0.1).abs(), 0.0, 1.0, 5, 40);
+        assert!((x + 0.1).abs() < 1e-6, "{x}");
+    }
+}
