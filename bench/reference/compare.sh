@@ -5,6 +5,8 @@
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=bench/reference/lib.sh
+. "$here/lib.sh"
 root=$(cd "$here/../.." && pwd)
 
 usage() {
@@ -26,8 +28,6 @@ authors' example tori), bob vertebra (TDEM parameterization); default: all of th
 EOF
 }
 
-die() { echo "error: $*" >&2; exit 2; }
-say() { echo "$*" >&2; }
 
 sdem_src=${DEMKIT_REF_SDEM:-}
 tdem_src=${DEMKIT_REF_TDEM:-}
@@ -68,26 +68,6 @@ fi
 mkdir -p "$work"
 work=$(cd "$work" && pwd)
 
-# A directory with the authors' code/ and data/: the checkout itself, or an export of a git
-# directory's HEAD into the work directory.
-code_dir() { # SOURCE NAME
-  local src=$1 name=$2
-  [ -n "$src" ] || die "where is the authors' $name code? give --$name DIR (see README.md)"
-  if [ -d "$src/code" ]; then
-    (cd "$src" && pwd)
-  elif git --git-dir="$src" rev-parse --verify -q HEAD >/dev/null 2>&1; then
-    local dst=$work/code/$name
-    if [ ! -d "$dst/code" ]; then
-      mkdir -p "$dst"
-      git --git-dir="$src" archive HEAD | tar -x -C "$dst"
-      say "exported $src ($(git --git-dir="$src" rev-parse --short HEAD)) to $dst"
-    fi
-    echo "$dst"
-  else
-    die "$src is neither a checkout (with code/) nor a git directory"
-  fi
-}
-
 need_sdem=0; need_tdem=0
 for c in "${cases[@]}"; do
   case $c in
@@ -98,13 +78,6 @@ for c in "${cases[@]}"; do
 done
 [ $need_sdem = 0 ] || sdem_code=$(code_dir "$sdem_src" sdem)
 [ $need_tdem = 0 ] || tdem_code=$(code_dir "$tdem_src" tdem)
-
-# key=value field of a line
-field() { echo "$1" | tr ' ' '\n' | sed -n "s/^$2=//p"; }
-now() { date +%s.%N; }
-fmt() { # printf format, value ("" or nan -> n/a)
-  case $2 in ""|nan|NaN) echo "n/a" ;; *) LC_ALL=C printf "$1" "$2" ;; esac
-}
 
 octave=(octave-cli -q -f)
 rows=()

@@ -87,8 +87,8 @@ pub struct MethodArgs {
     /// Target torus radii R:r (tdem).
     #[arg(long, allow_hyphen_values = true)]
     pub torus: Option<String>,
-    /// Target ellipsoid radii A:B:C along x, y, z (edem; with `--method auto` a genus-0 closed
-    /// surface is then mapped by edem).
+    /// Target ellipsoid radii A:B:C along x, y, z (edem; edeq's initial guess, default from the
+    /// surface's extents; with `--method auto` a genus-0 closed surface is then mapped by edem).
     #[arg(long, allow_hyphen_values = true)]
     pub ellipsoid: Option<String>,
     /// The energy weights.
@@ -109,7 +109,8 @@ pub struct MethodArgs {
 #[derive(Args, Debug, Clone)]
 pub struct WeightArgs {
     /// Energy weight α: the density term (lsdem, register); the weight of mean |μ| against the
-    /// density (deq, ldeq). Default: the method's paper value.
+    /// density (deq, ldeq); of Σ|μ|² against the density gradient (edeq). Default: the method's
+    /// paper value.
     #[arg(long)]
     pub alpha: Option<f64>,
     /// Energy weight β of the harmonic term (lsdem, register; default: the paper's).

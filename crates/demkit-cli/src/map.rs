@@ -87,7 +87,7 @@ pub fn compute(
         _ => None,
     };
     let ellipsoid = match (&a.ellipsoid, method) {
-        (Some(s), Method::Edem) => Some(parse_ellipsoid(s)?),
+        (Some(s), Method::Edem | Method::Edeq) => Some(parse_ellipsoid(s)?),
         (None, Method::Edem) => {
             return Err(Failure::input(
                 "--method edem needs the target ellipsoid: --ellipsoid A:B:C with radii A, B, C > 0",
@@ -280,9 +280,13 @@ pub fn warn_unused(a: &MethodArgs, m: Method, quiet: bool) {
             "--landmarks",
         ),
         (a.torus.is_some() && m != Method::Tdem, "--torus"),
-        (a.ellipsoid.is_some() && m != Method::Edem, "--ellipsoid"),
         (
-            a.weights.alpha.is_some() && !matches!(m, Method::Lsdem | Method::Deq | Method::Ldeq),
+            a.ellipsoid.is_some() && !matches!(m, Method::Edem | Method::Edeq),
+            "--ellipsoid",
+        ),
+        (
+            a.weights.alpha.is_some()
+                && !matches!(m, Method::Lsdem | Method::Deq | Method::Ldeq | Method::Edeq),
             "--alpha",
         ),
         (a.weights.beta.is_some() && m != Method::Lsdem, "--beta"),
@@ -305,6 +309,7 @@ pub fn warn_unused(a: &MethodArgs, m: Method, quiet: bool) {
                 | Method::Sdem
                 | Method::Lsdem
                 | Method::Edem
+                | Method::Edeq
                 | Method::SphericalConformal
                 | Method::Deq
                 | Method::Ldeq

@@ -114,7 +114,7 @@ fn prepare(r: &Request<'_>) -> PyResult<Prepared> {
         _ => None,
     };
     let ellipsoid = match (r.ellipsoid, method) {
-        (Some((a, b, c)), Method::Edem) => {
+        (Some((a, b, c)), Method::Edem | Method::Edeq) => {
             Some(Ellipsoid::new(a, b, c).map_err(|e| input_error(format!("ellipsoid: {e}")))?)
         }
         (None, Method::Edem) => {

@@ -17,7 +17,7 @@
 use crate::geometry::ellipsoid::Ellipsoid;
 use crate::geometry::torus::{FlatTorusMap, Torus};
 use crate::methods::{
-    MapResult, ProgressFn, circle_conformal, dem, dem_shape, deq, edem, ldeq, lsdem, sdem,
+    MapResult, ProgressFn, circle_conformal, dem, dem_shape, deq, edem, edeq, ldeq, lsdem, sdem,
     spherical_conformal, tdem,
 };
 use crate::metrics::Metrics;
@@ -42,6 +42,9 @@ pub enum Method {
     Lsdem,
     /// EDEM: a genus-0 closed surface onto an ellipsoid ([`MapOptions::ellipsoid`]).
     Edem,
+    /// EDEQ: EDEM with the ellipsoid's radii chosen too ([`MapOptions::ellipsoid`] is the
+    /// initial guess).
+    Edeq,
     /// DEQ: a surface with holes onto a circle domain.
     Deq,
     /// LDEQ: DEQ with landmarks sent to targets in the disk.
@@ -69,13 +72,14 @@ impl Map {
 
 impl Method {
     /// Every method, `Auto` first.
-    pub const ALL: [Method; 11] = [
+    pub const ALL: [Method; 12] = [
         Method::Auto,
         Method::Dem,
         Method::DemShape,
         Method::Sdem,
         Method::Lsdem,
         Method::Edem,
+        Method::Edeq,
         Method::Deq,
         Method::Ldeq,
         Method::Tdem,
@@ -96,6 +100,9 @@ impl Method {
             Method::Sdem => "Spherical DEM of a genus-0 closed surface",
             Method::Lsdem => "Landmark-aligned spherical DEM",
             Method::Edem => "Ellipsoidal DEM of a genus-0 closed surface (see --ellipsoid)",
+            Method::Edeq => {
+                "Ellipsoidal density-equalizing quasiconformal map, the radii chosen too"
+            }
             Method::Deq => "Density-equalizing quasiconformal map onto a circle domain",
             Method::Ldeq => "Landmark-matching DEQ",
             Method::Tdem => "Toroidal DEM of a genus-one surface",
@@ -115,6 +122,7 @@ impl Method {
             Method::Sdem => "sdem",
             Method::Lsdem => "lsdem",
             Method::Edem => "edem",
+            Method::Edeq => "edeq",
             Method::Deq => "deq",
             Method::Ldeq => "ldeq",
             Method::Tdem => "tdem",
@@ -167,7 +175,7 @@ impl Method {
     /// True for the methods whose map lies on the unit sphere or an ellipsoid: a closed
     /// surface around the origin, star-shaped from it.
     pub fn maps_onto_closed_surface(self) -> bool {
-        self.maps_onto_sphere() || matches!(self, Method::Edem)
+        self.maps_onto_sphere() || matches!(self, Method::Edem | Method::Edeq)
     }
 }
 
@@ -195,11 +203,12 @@ pub struct MapOptions {
     pub landmarks: Vec<(usize, [f64; 3])>,
     /// TDEM's target torus, in input units.
     pub torus: Option<Torus>,
-    /// EDEM's target ellipsoid (any radii: the domain's own size, not input units).
+    /// EDEM's target ellipsoid, EDEQ's initial guess (any radii: the domain's own size, not
+    /// input units).
     pub ellipsoid: Option<Ellipsoid>,
     /// DEM-shape's target shape (default: the disk).
     pub shape: Option<Shape>,
-    /// LSDEM's α, β, γ; DEQ's α.
+    /// LSDEM's α, β, γ; DEQ's and EDEQ's α.
     pub alpha: Option<f64>,
     /// LSDEM's β.
     pub beta: Option<f64>,
@@ -413,6 +422,16 @@ fn run_method(
             common(&mut c.epsilon, &mut c.max_iter);
             c.dt = o.dt.or(c.dt);
             edem::run(mesh, population, &c, progress)
+        }
+        Method::Edeq => {
+            let mut c = edeq::Config {
+                guess: o.ellipsoid,
+                ..Default::default()
+            };
+            common(&mut c.epsilon, &mut c.max_iter);
+            c.dt = o.dt.or(c.dt);
+            c.alpha = o.alpha.unwrap_or(c.alpha);
+            edeq::run(mesh, population, &c, progress)
         }
         Method::Lsdem => {
             let mut c = lsdem::Config::default();

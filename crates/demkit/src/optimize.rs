@@ -1,6 +1,6 @@
-//! Derivative-free minimization of functions of one real variable: the few parameters that
-//! initial maps choose by a search (a translation of the flat torus, the dilation of an
-//! ellipsoidal conformal map).
+//! Derivative-free minimization of functions of one or two real variables: the few parameters
+//! that maps choose by a search (a translation of the flat torus, the dilation of an
+//! ellipsoidal conformal map, a disk automorphism, the radii of EDEQ's ellipsoid).
 
 /// The golden ratio's conjugate (√5 − 1)/2: each golden-section step keeps this share of the
 /// bracket.
@@ -50,9 +50,70 @@ pub(crate) fn sampled_golden_section(
     if refined.1 < best.1 { refined } else { best }
 }
 
+/// Nelder–Mead minimisation of `f` over the plane from `x0` with initial step `step`, at most
+/// `iterations` steps, stopping when the simplex's values agree to 1e-10 (relative).
+pub(crate) fn nelder_mead(
+    f: impl Fn([f64; 2]) -> f64,
+    x0: [f64; 2],
+    step: f64,
+    iterations: usize,
+) -> ([f64; 2], f64) {
+    let mut s = [x0, [x0[0] + step, x0[1]], [x0[0], x0[1] + step]];
+    let mut v = s.map(&f);
+    for _ in 0..iterations {
+        let mut idx = [0usize, 1, 2];
+        idx.sort_by(|&i, &j| v[i].total_cmp(&v[j]));
+        s = idx.map(|i| s[i]);
+        v = idx.map(|i| v[i]);
+        if (v[2] - v[0]).abs() <= 1e-10 * v[0].abs().max(1e-300) {
+            break;
+        }
+        let c = [(s[0][0] + s[1][0]) / 2.0, (s[0][1] + s[1][1]) / 2.0];
+        let at = |t: f64| [c[0] + t * (s[2][0] - c[0]), c[1] + t * (s[2][1] - c[1])];
+        let r = at(-1.0);
+        let fr = f(r);
+        if fr < v[0] {
+            let e = at(-2.0);
+            let fe = f(e);
+            if fe < fr {
+                (s[2], v[2]) = (e, fe);
+            } else {
+                (s[2], v[2]) = (r, fr);
+            }
+        } else if fr < v[1] {
+            (s[2], v[2]) = (r, fr);
+        } else {
+            let k = at(0.5);
+            let fk = f(k);
+            if fk < v[2] {
+                (s[2], v[2]) = (k, fk);
+            } else {
+                for i in 1..3 {
+                    s[i] = [(s[0][0] + s[i][0]) / 2.0, (s[0][1] + s[i][1]) / 2.0];
+                    v[i] = f(s[i]);
+                }
+            }
+        }
+    }
+    let i = (0..3).min_by(|&i, &j| v[i].total_cmp(&v[j])).unwrap_or(0);
+    (s[i], v[i])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn nelder_mead_finds_the_minimum_of_a_quadratic_bowl() {
+        let f = |x: [f64; 2]| (x[0] - 1.0).powi(2) + 3.0 * (x[1] + 0.5).powi(2) + x[0] * x[1];
+        // Minimum where ∇f = 0: 2(x − 1) + y = 0, 6(y + 0.5) + x = 0.
+        let (x, _) = nelder_mead(f, [0.0, 0.0], 0.1, 200);
+        let (x_exact, y_exact) = (15.0 / 11.0, -8.0 / 11.0);
+        assert!(
+            (x[0] - x_exact).abs() < 1e-4 && (x[1] - y_exact).abs() < 1e-4,
+            "{x:?}"
+        );
+    }
 
     #[test]
     fn finds_the_minimum_of_a_parabola() {

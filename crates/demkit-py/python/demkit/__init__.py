@@ -285,7 +285,7 @@ def map(
         vertices    (n, 3) or (n, 2) float32/float64 positions, any memory order; or an object with .vertices and .faces
         faces       (m, 3) integer vertex indices, counter-clockwise (any integer dtype)
         population  "area", "uniform", an expression of the face centroid x, y, z and its area, or (m,) values
-        method      "auto" (by topology), "dem", "dem-shape", "sdem", "lsdem", "edem", "deq", "ldeq", "tdem", "spherical-conformal", "circle-conformal"
+        method      "auto" (by topology), "dem", "dem-shape", "sdem", "lsdem", "edem", "edeq", "deq", "ldeq", "tdem", "spherical-conformal", "circle-conformal"
         landmarks   (indices (k,), targets (k, 2|3)) or a (k, 3|4) array of rows "index x y [z]"
         torus       (R, r) target torus of tdem, R > r > 0
         shape       target of dem-shape: "disk", "square", "rectangle:W:H", "ellipse:A:B"
@@ -297,7 +297,8 @@ def map(
         max_iter    iteration limit
         progress    True for a tqdm bar, or a callable receiving (iteration, error)
         fixed_holes deq/ldeq: keep every hole on its initial circle
-        ellipsoid   (a, b, c) target ellipsoid of edem (with method "auto", a genus-0 closed surface is mapped by edem)
+        ellipsoid   (a, b, c) target ellipsoid of edem, initial guess of edeq (default: from the extents); with method "auto" a genus-0 closed surface is mapped by edem
+        alpha       (as above) edeq: weight of the distortion Σ|μ|² against the density gradient (default 5)
 
     Returns:
         Map with .vertices (n, 3) float64, .initial, .report, .method, .converged, .stop_reason, .domain, .flipped_triangles

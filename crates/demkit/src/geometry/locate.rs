@@ -383,7 +383,7 @@ mod walk_tests {
         let grid = SphericalLocator::new(&mesh.positions, &mesh.faces);
         let walk = SphericalWalk::new(&mesh.positions, &mesh.faces);
         for i in 0..300 {
-            let t = i as f64 * 0.7071;
+            let t = i as f64 * 0.713;
             let p = normalize([t.sin(), (1.3 * t).cos(), (0.37 * t).sin() - 0.2]);
             let a = grid.locate(p).unwrap();
             // From a far face, and from the face found.

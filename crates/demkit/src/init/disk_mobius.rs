@@ -74,7 +74,7 @@ pub fn balance_areas(domain: &CircleDomain, faces: &[[u32; 3]], weights: &[f64])
         imbalance(&w, faces, &log_weight)
     };
     let start = cost([0.0, 0.0]);
-    let (best, value) = nelder_mead(cost, [0.0, 0.0], 0.1, 80);
+    let (best, value) = crate::optimize::nelder_mead(cost, [0.0, 0.0], 0.1, 80);
     if !(value < start) {
         return domain.clone();
     }
@@ -116,54 +116,6 @@ pub fn balance_areas(domain: &CircleDomain, faces: &[[u32; 3]], weights: &[f64])
         centers,
         radii,
     }
-}
-
-/// Nelder–Mead minimisation of `f` over the plane from `x0` with initial step `step`.
-fn nelder_mead(
-    f: impl Fn([f64; 2]) -> f64,
-    x0: [f64; 2],
-    step: f64,
-    iterations: usize,
-) -> ([f64; 2], f64) {
-    let mut s = [x0, [x0[0] + step, x0[1]], [x0[0], x0[1] + step]];
-    let mut v = s.map(&f);
-    for _ in 0..iterations {
-        let mut idx = [0usize, 1, 2];
-        idx.sort_by(|&i, &j| v[i].total_cmp(&v[j]));
-        s = idx.map(|i| s[i]);
-        v = idx.map(|i| v[i]);
-        if (v[2] - v[0]).abs() <= 1e-10 * v[0].abs().max(1e-300) {
-            break;
-        }
-        let c = [(s[0][0] + s[1][0]) / 2.0, (s[0][1] + s[1][1]) / 2.0];
-        let at = |t: f64| [c[0] + t * (s[2][0] - c[0]), c[1] + t * (s[2][1] - c[1])];
-        let r = at(-1.0);
-        let fr = f(r);
-        if fr < v[0] {
-            let e = at(-2.0);
-            let fe = f(e);
-            if fe < fr {
-                (s[2], v[2]) = (e, fe);
-            } else {
-                (s[2], v[2]) = (r, fr);
-            }
-        } else if fr < v[1] {
-            (s[2], v[2]) = (r, fr);
-        } else {
-            let k = at(0.5);
-            let fk = f(k);
-            if fk < v[2] {
-                (s[2], v[2]) = (k, fk);
-            } else {
-                for i in 1..3 {
-                    s[i] = [(s[0][0] + s[i][0]) / 2.0, (s[0][1] + s[i][1]) / 2.0];
-                    v[i] = f(s[i]);
-                }
-            }
-        }
-    }
-    let i = (0..3).min_by(|&i, &j| v[i].total_cmp(&v[j])).unwrap_or(0);
-    (s[i], v[i])
 }
 
 #[cfg(test)]

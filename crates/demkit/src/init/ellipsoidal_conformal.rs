@@ -90,10 +90,10 @@ pub(crate) fn ellipsoidal_conformal_map_in_order(
         conformal_correction(&normalized, faces, ellipsoid, &poles, order)
     };
     if let Ok(dilations) = corrected {
-        if let Some(map) = dilations.balanced(population) {
-            if !faces.par_iter().any(|&f| spherical_flipped(&map, f)) {
-                return Ok(map);
-            }
+        if let Some(map) = dilations.balanced(population)
+            && !faces.par_iter().any(|&f| spherical_flipped(&map, f))
+        {
+            return Ok(map);
         }
         notes.push(
             "the ellipsoidal conformal correction folded the map; the normalized spherical \

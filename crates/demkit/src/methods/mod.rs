@@ -17,7 +17,7 @@ pub use common::{MapResult, Progress, ProgressFn, RefinedSurface, StopReason};
 pub(crate) use common::{check_landmark_vertices, require_valid_mesh};
 pub use disk::{dem, dem_shape};
 pub(crate) use sphere::input::check_sphere_input;
-pub use sphere::{edem, lsdem, sdem, spherical_conformal};
+pub use sphere::{edem, edeq, lsdem, sdem, spherical_conformal};
 pub use torus::tdem;
 
 #[cfg(test)]

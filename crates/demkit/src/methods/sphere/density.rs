@@ -91,16 +91,9 @@ impl<'a> SphereDiffusion<'a> {
 
     /// The tangential velocity (3.12)–(3.13) after one diffusion step of length `dt` (3.9)
     /// from the density `d` of `map`: `ṽ = −(W^FV ∇ρ) / ρ`, minus its component along the
-    /// domain's normal.
-    /// `dt = 0` takes the velocity of ρ_V itself.
+    /// domain's normal. `dt = 0` takes the velocity of ρ_V itself.
     pub(crate) fn velocity(&self, map: &[[f64; 3]], d: &Density, dt: f64) -> Result<Vec<[f64; 3]>> {
-        let rho = if dt > 0.0 {
-            self.diffuse(map, d, dt)?
-        } else {
-            d.rho_v.clone()
-        };
-        let grad_f = face_gradient(map, self.faces, &rho);
-        let grad_v = self.incidence.apply_vec(&d.areas, &grad_f);
+        let (rho, grad_v) = self.diffused_gradient(map, d, dt)?;
         let domain = self.domain;
         Ok(grad_v
             .par_iter()
@@ -108,6 +101,24 @@ impl<'a> SphereDiffusion<'a> {
             .zip(map.par_iter())
             .map(|((g, r), &p)| domain.tangential([-g[0] / r, -g[1] / r, -g[2] / r], p))
             .collect())
+    }
+
+    /// The density ρ after one diffusion step of length `dt` from the density `d` of `map`
+    /// (ρ_V itself for `dt = 0`), and its gradient at the vertices, `W^FV ∇ρ` (3.10)–(3.11).
+    pub(crate) fn diffused_gradient(
+        &self,
+        map: &[[f64; 3]],
+        d: &Density,
+        dt: f64,
+    ) -> Result<(Vec<f64>, Vec<[f64; 3]>)> {
+        let rho = if dt > 0.0 {
+            self.diffuse(map, d, dt)?
+        } else {
+            d.rho_v.clone()
+        };
+        let grad_f = face_gradient(map, self.faces, &rho);
+        let grad_v = self.incidence.apply_vec(&d.areas, &grad_f);
+        Ok((rho, grad_v))
     }
 
     /// One backward-Euler diffusion step (3.9), `(A + δt L) ρ = A ρ_V` ([`DiffusionOperator`]),

@@ -80,28 +80,14 @@ pub fn run(
     let local = Locality::breadth_first(mesh.n_vertices(), &mesh.faces);
     let (mesh, population) = (&local.mesh(mesh), &local.faces(population));
     let order = VertexOrder::of_mesh(mesh.n_vertices(), &mesh.faces)?;
-    let initial = match own_initial_map(mesh, &config.ellipsoid, &mut notes) {
-        Some(own) => own.into_iter().map(|p| domain.from_sphere(p)).collect(),
-        None => ellipsoidal_conformal_map_in_order(
-            &mesh.positions,
-            &mesh.faces,
-            &domain,
-            population,
-            &order,
-            &mut notes,
-        )?,
-    };
-    if mesh
-        .faces
-        .par_iter()
-        .any(|&f| spherical_flipped(&initial, f))
-    {
-        return Err(Error::InvalidMesh(format!(
-            "the mesh is too small to map onto the ellipsoid: with {} faces its initial map \
-             folds (subdivide it)",
-            mesh.n_faces()
-        )));
-    }
+    let initial = initial_map(
+        mesh,
+        population,
+        &config.ellipsoid,
+        &domain,
+        &order,
+        &mut notes,
+    )?;
     let time_init = t0.elapsed().as_secs_f64();
     let on = Target {
         domain,
@@ -134,6 +120,42 @@ pub fn run(
     notes.append(&mut result.notes);
     result.notes = notes;
     Ok(result)
+}
+
+/// The initial map of EDEM and EDEQ onto `domain` (the computation's copy of `ellipsoid`, scaled
+/// by a power of two): the surface itself when it lies on `ellipsoid` ([`own_initial_map`]),
+/// else its ellipsoidal conformal map. A map that folds (a mesh too coarse) is an error.
+pub(crate) fn initial_map(
+    mesh: &TriMesh,
+    population: &[f64],
+    ellipsoid: &Ellipsoid,
+    domain: &Ellipsoid,
+    order: &VertexOrder,
+    notes: &mut Vec<String>,
+) -> Result<Vec<[f64; 3]>> {
+    let initial = match own_initial_map(mesh, ellipsoid, notes) {
+        Some(own) => own.into_iter().map(|p| domain.from_sphere(p)).collect(),
+        None => ellipsoidal_conformal_map_in_order(
+            &mesh.positions,
+            &mesh.faces,
+            domain,
+            population,
+            order,
+            notes,
+        )?,
+    };
+    if mesh
+        .faces
+        .par_iter()
+        .any(|&f| spherical_flipped(&initial, f))
+    {
+        return Err(Error::InvalidMesh(format!(
+            "the mesh is too small to map onto the ellipsoid: with {} faces its initial map \
+             folds (subdivide it)",
+            mesh.n_faces()
+        )));
+    }
+    Ok(initial)
 }
 
 /// The surface as its own initial map when it lies on `ellipsoid` (every vertex within

@@ -4,6 +4,7 @@
 
 pub(crate) mod density;
 pub mod edem;
+pub mod edeq;
 pub(crate) mod input;
 pub mod lsdem;
 pub(crate) mod overlap;

@@ -33,12 +33,12 @@ const FIRST_TRY: f64 = 0.5;
 /// Halvings of a sweep's steps before it is given up.
 const HALVINGS: usize = 6;
 
-/// What [`match_areas`] did.
+/// What a run of sweeps did.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Matched {
     /// Sweeps kept.
     pub sweeps: usize,
-    /// The face misfit before and after.
+    /// The merit before and after (the face misfit for [`match_areas`]).
     pub misfit: [f64; 2],
 }
 
@@ -52,17 +52,37 @@ pub(crate) fn match_areas(
 ) -> Matched {
     let incidence = VertexFaces::new(map.len(), faces);
     let total_p: f64 = population.iter().sum();
-    let mut areas = face_areas(map, faces);
-    let before = log_area_misfit(population, &areas);
-    let mut misfit = before;
-    let mut sweeps = 0;
+    sweeps(
+        domain,
+        faces,
+        map,
+        |x: &[[f64; 3]]| log_area_misfit(population, &face_areas(x, faces)),
+        |x: &[[f64; 3]]| {
+            let scale_to_area = face_areas(x, faces).iter().sum::<f64>() / total_p;
+            (0..x.len())
+                .into_par_iter()
+                .map(|v| vertex_step(domain, faces, &incidence, x, v, population, scale_to_area))
+                .collect()
+        },
+    )
+}
+
+/// The sweep skeleton: every vertex's step from `steps` taken at once, halved (from
+/// [`FIRST_TRY`] of its length) until no face flips and `merit` falls; until a sweep gains
+/// less than [`MIN_GAIN`] or after [`MAX_SWEEPS`].
+fn sweeps(
+    domain: &Ellipsoid,
+    faces: &[[u32; 3]],
+    map: &mut Vec<[f64; 3]>,
+    merit: impl Fn(&[[f64; 3]]) -> f64,
+    steps: impl Fn(&[[f64; 3]]) -> Vec<[f64; 3]>,
+) -> Matched {
+    let before = merit(map);
+    let mut current = before;
+    let mut done = 0;
     let mut moved = map.clone();
-    while sweeps < MAX_SWEEPS {
-        let scale_to_area = areas.iter().sum::<f64>() / total_p;
-        let step: Vec<[f64; 3]> = (0..map.len())
-            .into_par_iter()
-            .map(|v| vertex_step(domain, faces, &incidence, map, v, population, scale_to_area))
-            .collect();
+    while done < MAX_SWEEPS {
+        let step = steps(map);
         let mut tau = FIRST_TRY;
         let mut kept = None;
         for _ in 0..HALVINGS {
@@ -71,31 +91,42 @@ pub(crate) fn match_areas(
                 .zip(map.par_iter().zip(&step))
                 .for_each(|(m, (&x, &s))| *m = domain.project(add(x, scale(s, tau))));
             if !faces.par_iter().any(|&f| spherical_flipped(&moved, f)) {
-                let a = face_areas(&moved, faces);
-                let m = log_area_misfit(population, &a);
-                if m < misfit {
-                    kept = Some((m, a));
+                let m = merit(&moved);
+                if m < current {
+                    kept = Some(m);
                     break;
                 }
             }
             tau *= 0.5;
         }
-        let Some((m, a)) = kept else {
+        let Some(m) = kept else {
             break;
         };
         std::mem::swap(map, &mut moved);
-        areas = a;
-        sweeps += 1;
-        let gain = (misfit - m) / misfit;
-        misfit = m;
+        done += 1;
+        let gain = (current - m) / current;
+        current = m;
         if !(gain >= MIN_GAIN) {
             break;
         }
     }
     Matched {
-        sweeps,
-        misfit: [before, misfit],
+        sweeps: done,
+        misfit: [before, current],
     }
+}
+
+/// An orthonormal basis of the tangent plane of `domain` at `x`.
+fn tangent_basis(domain: &Ellipsoid, x: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let n = domain.normal(x);
+    let axis = if n[0].abs() < 0.6 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
+    let t = cross(n, axis);
+    let t1 = scale(t, 1.0 / norm(t));
+    (t1, cross(n, t1))
 }
 
 /// The least-squares step of vertex `v` (module docs) in the tangent plane of `domain` at its
@@ -110,17 +141,7 @@ fn vertex_step(
     scale_to_area: f64,
 ) -> [f64; 3] {
     let x = map[v];
-    let n = domain.normal(x);
-    let t1 = {
-        let axis = if n[0].abs() < 0.6 {
-            [1.0, 0.0, 0.0]
-        } else {
-            [0.0, 1.0, 0.0]
-        };
-        let t = cross(n, axis);
-        scale(t, 1.0 / norm(t))
-    };
-    let t2 = cross(n, t1);
+    let (t1, t2) = tangent_basis(domain, x);
     // Normal equations M c = r of the 2×2 least-squares problem.
     let (mut m11, mut m12, mut m22, mut r1, mut r2) = (0.0, 0.0, 0.0, 0.0, 0.0);
     for &f in incidence.faces_of(v) {
