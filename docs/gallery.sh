@@ -60,6 +60,11 @@ picture sphere-maxplanck "$data/genus0/maxplanck.obj"
 generate icosphere --subdivisions 4 --out "$tmp/sphere.obj" >/dev/null
 picture sphere-gradient "$tmp/sphere.obj" --population "area*(1+4.5*(z+1))"
 
+# Ellipsoids (EDEM): a hippocampus by area on the paper's ellipsoid 1:1:2.2, against the
+# sphere (SDEM) that it is forced onto otherwise.
+picture hippocampus-ellipsoid "$data/ellipsoidal/hippocampus.obj" --method edem --ellipsoid 1:1:2.2
+picture hippocampus-sphere "$data/ellipsoidal/hippocampus.obj" --method sdem
+
 # Surfaces with holes (DEQ): a generated disk with two holes, population doubled on x > 0.
 generate disk-holes --hole 0.35:0.1:0.2 --hole -0.3:-0.2:0.15 --out "$tmp/holes.obj" >/dev/null
 picture holes "$tmp/holes.obj" --population "area*(1+(x>0))"
