@@ -213,6 +213,7 @@ mod tests {
     use super::*;
     use crate::generate::icosphere;
     use crate::geometry::face_areas;
+    use crate::methods::sphere::sdem::tests::area_times;
     use crate::metrics::{Domain, compute};
 
     /// The icosphere of `level` stretched onto `e`.
@@ -222,19 +223,6 @@ mod tests {
             *p = e.from_sphere(*p);
         }
         mesh
-    }
-
-    /// `area · density(centroid)` per face.
-    fn area_times(mesh: &TriMesh, density: impl Fn([f64; 3]) -> f64) -> Vec<f64> {
-        let area = face_areas(&mesh.positions, &mesh.faces);
-        mesh.faces
-            .iter()
-            .zip(&area)
-            .map(|(f, a)| {
-                let p = f.map(|v| mesh.positions[v as usize]);
-                a * density(std::array::from_fn(|k| (p[0][k] + p[1][k] + p[2][k]) / 3.0))
-            })
-            .collect()
     }
 
     #[test]

@@ -368,7 +368,7 @@ impl Flow for SphereFlow<'_> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::generate::icosphere;
     use crate::geometry::face_areas;
@@ -389,7 +389,7 @@ mod tests {
     }
 
     /// The population `area · density(centroid)` of every face of `mesh`.
-    fn area_times(mesh: &TriMesh, density: impl Fn([f64; 3]) -> f64) -> Vec<f64> {
+    pub(crate) fn area_times(mesh: &TriMesh, density: impl Fn([f64; 3]) -> f64) -> Vec<f64> {
         let area = face_areas(&mesh.positions, &mesh.faces);
         mesh.faces
             .iter()
