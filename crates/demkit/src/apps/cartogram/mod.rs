@@ -18,6 +18,7 @@ mod buckets;
 mod cleaning;
 pub mod colours;
 mod crossings;
+pub mod degrees;
 mod densify;
 pub mod flow;
 mod frame;
