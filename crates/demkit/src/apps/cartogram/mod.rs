@@ -29,6 +29,7 @@ pub mod project;
 pub mod raster;
 pub mod regions;
 mod rings;
+mod sides;
 pub mod sphere;
 pub mod svg;
 mod topology;
