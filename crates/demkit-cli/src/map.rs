@@ -6,7 +6,7 @@ use crate::progress::Bar;
 use demkit::geometry::torus::Torus;
 use demkit::population::{PopulationSpec, face_populations_at_scale};
 use demkit::shape::Shape;
-use demkit::{MapOptions, Method, Population, Surface, TriMesh};
+use demkit::{MapOption, MapOptions, Method, Population, Surface, TriMesh};
 use std::path::Path;
 use std::time::Instant;
 
@@ -94,13 +94,7 @@ pub fn compute(
         landmarks,
         torus,
         shape,
-        alpha: a.weights.alpha,
-        beta: a.weights.beta,
-        gamma: a.weights.gamma,
-        dt: a.dt,
-        epsilon: a.stop.epsilon,
-        max_iter: a.stop.max_iter,
-        fixed_holes: a.no_geometry_update,
+        ..numeric_options(a)
     };
     let bar = Bar::new(quiet, method.name());
     let map = demkit::map_with_progress(surface, &population, &options, &mut |p| bar.update(p));
@@ -132,6 +126,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         check_uv_extension(uv)?;
     }
     crate::render::check_map_args(a)?;
+    check_values(&a.m)?;
     let (population, landmarks) = crate::paths::method_inputs(&a.m);
     crate::paths::check(
         &crate::paths::mesh_inputs(&a.mesh, &population, &landmarks),
@@ -231,55 +226,53 @@ pub fn parse_torus(s: &str) -> Result<Torus, Failure> {
     Torus::new(major, minor).map_err(|e| Failure::input(format!("--torus: {e}")))
 }
 
-/// Warns about options the chosen method does not use.
+/// The library's options that `a` sets (a landmark file counts before it is read).
+fn options_set(a: &MethodArgs) -> Vec<MapOption> {
+    let mut set = demkit::options::set_in(&numeric_options(a));
+    for (given, option) in [
+        (a.landmarks.is_some(), MapOption::Landmarks),
+        (a.torus.is_some(), MapOption::Torus),
+        (a.shape.is_some(), MapOption::Shape),
+    ] {
+        if given {
+            set.push(option);
+        }
+    }
+    set
+}
+
+/// The numbers and switches of `a` as the library's options (no landmarks, torus or shape).
+fn numeric_options(a: &MethodArgs) -> MapOptions {
+    MapOptions {
+        method: a.method.0,
+        alpha: a.weights.alpha,
+        beta: a.weights.beta,
+        gamma: a.weights.gamma,
+        dt: a.dt,
+        epsilon: a.stop.epsilon,
+        max_iter: a.stop.max_iter,
+        fixed_holes: a.no_geometry_update,
+        ..MapOptions::default()
+    }
+}
+
+/// Refuses, before anything is read, a value out of range whichever method would read it
+/// ([`demkit::options::check_values`]): a negative or non-finite weight, time step or
+/// tolerance.
+pub fn check_values(a: &MethodArgs) -> Result<(), Failure> {
+    Ok(demkit::options::check_values(&numeric_options(a))?)
+}
+
+/// Warns about the options the chosen method does not read ([`Method::options`]).
 pub fn warn_unused(a: &MethodArgs, m: Method, quiet: bool) {
-    if quiet {
+    let unused = demkit::options::unused(m, &options_set(a));
+    if quiet || unused.is_empty() {
         return;
     }
-    let unused: Vec<&str> = [
-        (
-            a.landmarks.is_some()
-                && !matches!(
-                    m,
-                    Method::Lsdem | Method::Sdem | Method::SphericalConformal | Method::Ldeq
-                ),
-            "--landmarks",
-        ),
-        (a.torus.is_some() && m != Method::Tdem, "--torus"),
-        (
-            a.weights.alpha.is_some() && !matches!(m, Method::Lsdem | Method::Deq | Method::Ldeq),
-            "--alpha",
-        ),
-        (a.weights.beta.is_some() && m != Method::Lsdem, "--beta"),
-        (
-            a.no_geometry_update && !matches!(m, Method::Deq | Method::Ldeq),
-            "--no-geometry-update",
-        ),
-        (a.weights.gamma.is_some() && m != Method::Lsdem, "--gamma"),
-        (a.shape.is_some() && m != Method::DemShape, "--shape"),
-    ]
-    .iter()
-    .filter(|(set, _)| *set)
-    .map(|(_, n)| *n)
-    .collect();
-    if !unused.is_empty()
-        && matches!(
-            m,
-            Method::Dem
-                | Method::DemShape
-                | Method::Sdem
-                | Method::Lsdem
-                | Method::SphericalConformal
-                | Method::Deq
-                | Method::Ldeq
-                | Method::CircleConformal
-                | Method::Tdem
-        )
-    {
-        eprintln!(
-            "warning: {} not used by --method {}",
-            unused.join(", "),
-            m.name()
-        );
-    }
+    let flags: Vec<&str> = unused.iter().map(|o| crate::flag(o.name())).collect();
+    eprintln!(
+        "warning: {} not used by --method {}",
+        flags.join(", "),
+        m.name()
+    );
 }

@@ -56,6 +56,15 @@ impl MapSummary {
 pub fn run(a: &RegisterArgs) -> Result<u8, Failure> {
     let t0 = Instant::now();
     check_output_extension(&a.out)?;
+    // The weights and the stop in the ranges every map's options have.
+    demkit::options::check_values(&demkit::MapOptions {
+        alpha: a.weights.alpha,
+        beta: a.weights.beta,
+        gamma: a.weights.gamma,
+        epsilon: a.stop.epsilon,
+        max_iter: a.stop.max_iter,
+        ..demkit::MapOptions::default()
+    })?;
     crate::paths::check(
         &crate::paths::given(&[
             ("A", Some(&a.a)),

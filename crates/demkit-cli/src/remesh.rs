@@ -63,6 +63,7 @@ struct Times {
 pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
     let t0 = Instant::now();
     check_output_extension(&a.out)?;
+    crate::map::check_values(&a.m)?;
     let (population, landmarks) = crate::paths::method_inputs(&a.m);
     crate::paths::check(
         &crate::paths::mesh_inputs(&a.mesh, &population, &landmarks),

@@ -66,6 +66,7 @@ pub(crate) mod linalg;
 pub mod mesh;
 pub mod methods;
 pub mod metrics;
+pub mod options;
 pub mod population;
 #[cfg(feature = "internals")]
 pub mod qc;
@@ -78,5 +79,6 @@ mod surface;
 pub use api::{Domain, Map, MapOptions, Method, Population, map, map_with_progress};
 pub use error::{Error, Result};
 pub use mesh::TriMesh;
+pub use options::MapOption;
 pub use shape::Shape;
 pub use surface::Surface;
