@@ -17,6 +17,7 @@ mod remesh;
 mod render;
 mod report;
 mod subdivide;
+mod surface;
 
 use clap::Parser;
 use std::process::ExitCode;

@@ -107,17 +107,6 @@ pub fn compute(
     })
 }
 
-/// Reads and validates a mesh ([`Surface`]), printing validation warnings unless `quiet`.
-pub fn read_valid_mesh(path: &Path, quiet: bool) -> Result<Surface, Failure> {
-    let surface = Surface::from_mesh(demkit::io::read_mesh(path)?)?;
-    if !quiet {
-        for w in surface.warnings() {
-            eprintln!("warning: {w}");
-        }
-    }
-    Ok(surface)
-}
-
 /// Runs the map command; returns the exit code (0, or 3 when not converged).
 pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     let t0 = Instant::now();
@@ -138,7 +127,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             ("--report", a.report.as_ref()),
         ]),
     )?;
-    let surface = read_valid_mesh(&a.mesh, a.quiet)?;
+    let surface = crate::surface::read_valid_mesh(&a.mesh, a.quiet)?;
     let topo = surface.topology();
     let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
     warn_unused(&a.m, method, a.quiet);
@@ -165,10 +154,10 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         demkit::io::write_textured_obj(uv, mesh, &texture)?;
     }
     if let Some(png) = &a.render {
-        crate::render::render_map(png, mesh, &c, a)?;
+        crate::render::render_map(png, mesh, &c.map, a)?;
     }
     if let Some(png) = &a.histogram {
-        crate::render::render_histograms(png, mesh, &c, a)?;
+        crate::render::render_histograms(png, mesh, &c.map, a)?;
     }
     if let Some(path) = &a.report {
         let report = c.map.report(&surface, t0.elapsed().as_secs_f64());

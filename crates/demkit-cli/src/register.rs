@@ -3,8 +3,9 @@
 
 use crate::Failure;
 use crate::args::RegisterArgs;
-use crate::map::{check_output_extension, read_valid_mesh};
+use crate::map::check_output_extension;
 use crate::progress::Bar;
+use crate::surface::read_valid_mesh;
 use demkit::TriMesh;
 use demkit::apps::register::{register, registration_config};
 use demkit::geometry::{bounding_box_diagonal, face_areas, norm, sub};

@@ -5,7 +5,8 @@
 
 use crate::Failure;
 use crate::args::RemeshArgs;
-use crate::map::{check_output_extension, compute, read_valid_mesh, resolve_method, warn_unused};
+use crate::map::{check_output_extension, compute, resolve_method, warn_unused};
+use crate::surface::read_valid_mesh;
 use demkit::Method;
 use demkit::apps::remesh::quality::{max_distance_to_surface, quality};
 use demkit::apps::remesh::{Target, check_vertex_count, min_vertices, remesh};

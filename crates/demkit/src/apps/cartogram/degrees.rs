@@ -74,26 +74,14 @@ pub fn to_degrees(
     let rings: Vec<IndexRings> = coordinates
         .iter()
         .map(|polys| {
-            polys
-                .iter()
-                .map(|rings| {
-                    rings
-                        .iter()
-                        .map(|ring| {
-                            ring.iter()
-                                .map(|&p| {
-                                    *index
-                                        .entry((p[0].to_bits(), p[1].to_bits()))
-                                        .or_insert_with(|| {
-                                            points.push(p);
-                                            points.len() - 1
-                                        })
-                                })
-                                .collect()
-                        })
-                        .collect()
-                })
-                .collect()
+            map_polygons(polys, |p: [f64; 2]| {
+                *index
+                    .entry((p[0].to_bits(), p[1].to_bits()))
+                    .or_insert_with(|| {
+                        points.push(p);
+                        points.len() - 1
+                    })
+            })
         })
         .collect();
     to_degrees_indexed(points, rings, inverse).0
