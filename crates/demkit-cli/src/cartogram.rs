@@ -74,8 +74,9 @@ fn check_options(a: &CartogramArgs) -> Result<(), Failure> {
     }
     if let Some(png) = &a.png {
         crate::render::check_png_extension(png)?;
-        crate::render::check_size(a.size)?;
     }
+    // Checked whether or not a picture is asked for, like every other value.
+    crate::render::check_size(a.size)?;
     if a.max_iter == Some(0) {
         return Err(Failure::input("--max-iter must be at least 1"));
     }

@@ -40,7 +40,7 @@ impl From<demkit::Error> for Failure {
 }
 
 /// The library's parameters and the flags that set them.
-const FLAGS: [(&str, &str); 17] = [
+const FLAGS: [(&str, &str); 18] = [
     ("landmarks", "--landmarks"),
     ("torus", "--torus"),
     ("fixed_holes", "--no-geometry-update"),
@@ -58,6 +58,7 @@ const FLAGS: [(&str, &str); 17] = [
     ("sphere", "--sphere"),
     ("project", "--project"),
     ("levels", "--levels"),
+    ("parts", "--parts"),
 ];
 
 /// The flag that sets the library's `parameter` (the parameter itself when no flag does).

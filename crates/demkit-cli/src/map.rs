@@ -114,7 +114,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     if let Some(uv) = &a.uv_out {
         check_uv_extension(uv)?;
     }
-    crate::render::check_map_args(a)?;
+    crate::render::check_map_args(a, a.quiet)?;
     check_values(&a.m)?;
     let (population, landmarks) = crate::paths::method_inputs(&a.m);
     crate::paths::check(

@@ -133,7 +133,7 @@ fn out_of_range_values_and_overlapping_regions_are_refused_naming_the_problem() 
         ),
         (
             vec!["generate", "torus", "--R", "1e300", "--out", "t.obj"],
-            vec!["small_r", "big_r"],
+            vec!["--r ", "--R"],
         ),
     ];
     for (args, needles) in rows {

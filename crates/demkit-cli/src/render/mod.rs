@@ -37,14 +37,17 @@ pub fn check_png_extension(path: &Path) -> Result<(), Failure> {
     crate::require_extension(path, &["png"], "pictures are written as .png")
 }
 
-/// Checks `map`'s picture options before the map is computed: .png names, `--view`, `--size`.
-pub fn check_map_args(a: &MapArgs) -> Result<(), Failure> {
+/// Checks `map`'s picture options before the map is computed: .png names, `--view`, `--size`
+/// (their values whether or not a picture is asked for). A `--view` with no picture to draw
+/// is named in a warning unless `quiet`.
+pub fn check_map_args(a: &MapArgs, quiet: bool) -> Result<(), Failure> {
     for png in [&a.render, &a.histogram].into_iter().flatten() {
         check_png_extension(png)?;
     }
-    if a.render.is_some() || a.histogram.is_some() {
-        parse_view(a.picture.view.as_deref())?;
-        check_size(a.picture.size)?;
+    parse_view(a.picture.view.as_deref())?;
+    check_size(a.picture.size)?;
+    if a.render.is_none() && a.histogram.is_none() && a.picture.view.is_some() && !quiet {
+        eprintln!("warning: --view not used without --render or --histogram");
     }
     Ok(())
 }
