@@ -113,7 +113,7 @@ mod tests {
         assert!(validity::check(&plane, &labels).is_empty());
         let naive: Vec<Vec<Polygon>> = plane
             .iter()
-            .map(|polys| map_polygons(polys, |p| unproject(p)))
+            .map(|polys| map_polygons(polys, unproject))
             .collect();
         assert!(naive[0][0][0].iter().any(|p| p[1] > 85.0));
         assert!(!validity::check(&naive, &labels).is_empty());
@@ -122,7 +122,7 @@ mod tests {
         // The vertices added lie on the plane's edges: the areas in the plane are unchanged.
         let back: Vec<Vec<Polygon>> = written
             .iter()
-            .map(|polys| map_polygons(polys, |p| project(p)))
+            .map(|polys| map_polygons(polys, project))
             .collect();
         let area = |c: &Vec<Polygon>| super::super::rings::polygon_area(&c[0]);
         for (a, b) in plane.iter().zip(&back) {
