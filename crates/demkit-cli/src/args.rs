@@ -98,7 +98,7 @@ pub struct MethodArgs {
     #[arg(long)]
     pub no_geometry_update: bool,
     /// Time step (default: the method's own choice).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub dt: Option<f64>,
     /// When the iteration stops.
     #[command(flatten)]
@@ -111,13 +111,13 @@ pub struct WeightArgs {
     /// Energy weight α: the density term (lsdem, register); the weight of mean |μ| against the
     /// density (deq, ldeq); of Σ|μ|² against the density gradient (edeq). Default: the method's
     /// paper value.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub alpha: Option<f64>,
     /// Energy weight β of the harmonic term (lsdem, register; default: the paper's).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub beta: Option<f64>,
     /// Energy weight γ of the landmark term (lsdem, register; default: the paper's).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub gamma: Option<f64>,
 }
 
@@ -125,10 +125,10 @@ pub struct WeightArgs {
 #[derive(Args, Debug, Clone)]
 pub struct StopArgs {
     /// Stopping tolerance (default: the method's paper value).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub epsilon: Option<f64>,
     /// Iteration limit (default: the method's own).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub max_iter: Option<usize>,
 }
 
@@ -175,7 +175,12 @@ pub struct PictureArgs {
     pub view: Option<String>,
     /// Picture height in pixels (64 to 4096); histograms are 1.5 times as wide; `map
     /// --render` draws two N × N pictures side by side, each with a legend strip.
-    #[arg(long, default_value_t = 1024, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        default_value_t = 1024,
+        allow_negative_numbers = true,
+        allow_hyphen_values = true
+    )]
     pub size: i64,
 }
 
@@ -189,7 +194,7 @@ pub struct RemeshArgs {
     #[arg(long)]
     pub out: PathBuf,
     /// About how many vertices the new mesh has.
-    #[arg(long, default_value_t = 5000)]
+    #[arg(long, default_value_t = 5000, allow_hyphen_values = true)]
     pub vertices: usize,
     /// The map used for remeshing and its parameters; the population sets the vertex density.
     #[command(flatten)]
@@ -237,7 +242,12 @@ pub struct CartogramArgs {
     #[arg(long, value_enum, default_value = "density")]
     pub color: CartogramColor,
     /// The PNG picture's longer side in pixels (64 to 4096).
-    #[arg(long, default_value_t = 1024, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        default_value_t = 1024,
+        allow_negative_numbers = true,
+        allow_hyphen_values = true
+    )]
     pub size: i64,
     /// Write a JSON report here.
     #[arg(long)]
@@ -257,6 +267,7 @@ pub struct CartogramArgs {
     /// The accuracy asked for: every region with at least 1e-4 of the total value within this
     /// relative error of its share (exit 3 otherwise).
     #[arg(
+        allow_hyphen_values = true,
         long,
         value_name = "E",
         default_value_t = 0.01,
@@ -264,11 +275,17 @@ pub struct CartogramArgs {
     )]
     pub max_error: f64,
     /// No further round starts after this many seconds (default: no limit).
-    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        allow_negative_numbers = true,
+        allow_hyphen_values = true
+    )]
     pub time_limit: Option<f64>,
     /// The flow's grid: cells along the map's longer side, a power of two from 16 to 8192
     /// (finer is more accurate for small regions and slower).
     #[arg(
+        allow_hyphen_values = true,
         long,
         value_name = "N",
         default_value_t = 1024,
@@ -276,7 +293,7 @@ pub struct CartogramArgs {
     )]
     pub grid: usize,
     /// Integration steps per round (default: the method's own).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub max_iter: Option<usize>,
     /// No progress bar and no warnings.
     #[arg(long)]
@@ -358,45 +375,45 @@ pub enum GenerateKind {
     /// A planar grid of nx × ny squares, each split into two triangles, on [0,W]×[0,H].
     #[command(allow_negative_numbers = true)]
     Grid {
-        #[arg(long, default_value_t = 99)]
+        #[arg(long, default_value_t = 99, allow_hyphen_values = true)]
         nx: usize,
-        #[arg(long, default_value_t = 99)]
+        #[arg(long, default_value_t = 99, allow_hyphen_values = true)]
         ny: usize,
-        #[arg(long, default_value_t = 99.0)]
+        #[arg(long, default_value_t = 99.0, allow_hyphen_values = true)]
         width: f64,
-        #[arg(long, default_value_t = 99.0)]
+        #[arg(long, default_value_t = 99.0, allow_hyphen_values = true)]
         height: f64,
     },
     /// A regular polygon of circumradius 1 triangulated by concentric rings.
     #[command(allow_negative_numbers = true)]
     Polygon {
-        #[arg(long, default_value_t = 6)]
+        #[arg(long, default_value_t = 6, allow_hyphen_values = true)]
         sides: usize,
-        #[arg(long, default_value_t = 32)]
+        #[arg(long, default_value_t = 32, allow_hyphen_values = true)]
         rings: usize,
     },
     /// MATLAB's peaks surface on [-3,3]², n × n squares.
     #[command(allow_negative_numbers = true)]
     Peaks {
-        #[arg(long, default_value_t = 45)]
+        #[arg(long, default_value_t = 45, allow_hyphen_values = true)]
         n: usize,
     },
     /// A Gaussian bump on [0,1]², n × n squares.
     #[command(allow_negative_numbers = true)]
     Gaussian {
-        #[arg(long, default_value_t = 72)]
+        #[arg(long, default_value_t = 72, allow_hyphen_values = true)]
         n: usize,
     },
     /// A planar annulus.
     #[command(allow_negative_numbers = true)]
     Annulus {
-        #[arg(long, default_value_t = 0.4)]
+        #[arg(long, default_value_t = 0.4, allow_hyphen_values = true)]
         inner: f64,
-        #[arg(long, default_value_t = 1.0)]
+        #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
         outer: f64,
-        #[arg(long, default_value_t = 12)]
+        #[arg(long, default_value_t = 12, allow_hyphen_values = true)]
         radial: usize,
-        #[arg(long, default_value_t = 96)]
+        #[arg(long, default_value_t = 96, allow_hyphen_values = true)]
         angular: usize,
     },
     /// The unit disk minus circular holes, each given as cx:cy:r.
@@ -405,47 +422,47 @@ pub enum GenerateKind {
         /// A circular hole CX:CY:R; repeat the option for several holes.
         #[arg(long = "hole", value_name = "CX:CY:R", allow_hyphen_values = true)]
         holes: Vec<String>,
-        #[arg(long, default_value_t = 40)]
+        #[arg(long, default_value_t = 40, allow_hyphen_values = true)]
         resolution: usize,
     },
     /// The rectangle [-W/2,W/2]×[-H/2,H/2] minus circular holes, each given as cx:cy:r.
     #[command(allow_negative_numbers = true)]
     RectHoles {
-        #[arg(long, default_value_t = 2.0)]
+        #[arg(long, default_value_t = 2.0, allow_hyphen_values = true)]
         width: f64,
-        #[arg(long, default_value_t = 1.0)]
+        #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
         height: f64,
         /// A circular hole CX:CY:R; repeat the option for several holes.
         #[arg(long = "hole", value_name = "CX:CY:R", allow_hyphen_values = true)]
         holes: Vec<String>,
         /// Boundary points along the longer side.
-        #[arg(long, default_value_t = 40)]
+        #[arg(long, default_value_t = 40, allow_hyphen_values = true)]
         resolution: usize,
     },
     /// A subdivided icosahedron on the unit sphere.
     #[command(allow_negative_numbers = true)]
     Icosphere {
-        #[arg(long, default_value_t = 4)]
+        #[arg(long, default_value_t = 4, allow_hyphen_values = true)]
         subdivisions: usize,
     },
     /// A latitude/longitude sphere.
     #[command(allow_negative_numbers = true)]
     UvSphere {
-        #[arg(long, default_value_t = 32)]
+        #[arg(long, default_value_t = 32, allow_hyphen_values = true)]
         lat: usize,
-        #[arg(long, default_value_t = 64)]
+        #[arg(long, default_value_t = 64, allow_hyphen_values = true)]
         lon: usize,
     },
     /// A torus with radii R > r.
     #[command(allow_negative_numbers = true)]
     Torus {
-        #[arg(long = "R", default_value_t = 2.0)]
+        #[arg(long = "R", default_value_t = 2.0, allow_hyphen_values = true)]
         big_r: f64,
-        #[arg(long = "r", default_value_t = 1.0)]
+        #[arg(long = "r", default_value_t = 1.0, allow_hyphen_values = true)]
         small_r: f64,
-        #[arg(long, default_value_t = 64)]
+        #[arg(long, default_value_t = 64, allow_hyphen_values = true)]
         major: usize,
-        #[arg(long, default_value_t = 32)]
+        #[arg(long, default_value_t = 32, allow_hyphen_values = true)]
         minor: usize,
     },
 }
@@ -461,11 +478,11 @@ pub struct SubdivideArgs {
     #[arg(long)]
     pub out: PathBuf,
     /// How many rounds of subdivision (N rounds: (K²)^N times the faces).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     pub levels: usize,
     /// Into how many equal parts every edge is cut in a round (K: every triangle becomes K²;
     /// 2 is midpoint subdivision).
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = 2, allow_hyphen_values = true)]
     pub parts: usize,
     /// A population file of the input (one value per face), to split among the new faces.
     #[arg(long, value_name = "FILE", requires = "population_out")]
@@ -499,7 +516,7 @@ pub struct BenchArgs {
     pub json: Option<PathBuf>,
     /// Caps every case's iterations (default: each method's own limit); a case stopped by it is
     /// shown as not converged.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub max_iter: Option<usize>,
     /// Lists the cases (name, mesh, method, population) without running them.
     #[arg(long)]

@@ -74,14 +74,15 @@ fn check_options(a: &CartogramArgs) -> Result<(), Failure> {
     }
     if let Some(png) = &a.png {
         crate::render::check_png_extension(png)?;
-        crate::render::check_size(a.size)?;
     }
+    // Checked whether or not a picture is asked for, like every other value.
+    crate::render::check_size(a.size)?;
     if a.max_iter == Some(0) {
         return Err(Failure::input("--max-iter must be at least 1"));
     }
-    if !(a.max_error.is_finite() && a.max_error > 0.0) {
+    if !(a.max_error > 0.0 && a.max_error <= 1.0) {
         return Err(Failure::input(format!(
-            "--max-error must be a positive number (a relative error, 0.01 for 1 %), got {}",
+            "--max-error must be a relative error above 0 and at most 1 (0.01 for 1 %), got {}",
             a.max_error
         )));
     }
@@ -171,9 +172,7 @@ pub fn run(a: &CartogramArgs) -> Result<u8, Failure> {
         );
     }
     if a.output_lonlat {
-        for p in c.coordinates.iter_mut().flatten().flatten().flatten() {
-            *p = project::inverse(*p);
-        }
+        c.coordinates = cartogram::degrees::to_degrees(&c.coordinates, project::inverse);
     }
     let labels: Vec<String> = c.regions.iter().map(|r| r.label.clone()).collect();
     let invalid = validity::check(&c.coordinates, &labels);

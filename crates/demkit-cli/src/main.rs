@@ -17,6 +17,7 @@ mod remesh;
 mod render;
 mod report;
 mod subdivide;
+mod surface;
 
 use clap::Parser;
 use std::process::ExitCode;
@@ -39,7 +40,10 @@ impl From<demkit::Error> for Failure {
 }
 
 /// The library's parameters and the flags that set them.
-const FLAGS: [(&str, &str); 14] = [
+const FLAGS: [(&str, &str); 19] = [
+    ("landmarks", "--landmarks"),
+    ("torus", "--torus"),
+    ("fixed_holes", "--no-geometry-update"),
     ("epsilon", "--epsilon"),
     ("dt", "--dt"),
     ("max_iter", "--max-iter"),
@@ -49,12 +53,22 @@ const FLAGS: [(&str, &str); 14] = [
     ("vertices", "--vertices"),
     ("grid", "--grid"),
     ("shape", "--shape"),
+    ("ellipsoid", "--ellipsoid"),
     ("key", "--key"),
     ("value", "--value"),
     ("sphere", "--sphere"),
     ("project", "--project"),
     ("levels", "--levels"),
+    ("parts", "--parts"),
 ];
+
+/// The flag that sets the library's `parameter` (the parameter itself when no flag does).
+pub fn flag(parameter: &str) -> &str {
+    FLAGS
+        .iter()
+        .find(|(p, _)| *p == parameter)
+        .map_or(parameter, |(_, f)| f)
+}
 
 /// The error's message, with the library's parameters named by their flags: an argument error
 /// that starts with a parameter ("epsilon must be positive" → "--epsilon must be positive"), and
@@ -153,12 +167,13 @@ fn main() -> ExitCode {
         Ok(c) => c,
         Err(e) => {
             use clap::error::ErrorKind;
-            if matches!(
-                e.kind(),
-                ErrorKind::DisplayHelp
-                    | ErrorKind::DisplayVersion
-                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
-            ) {
+            if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+                // No subcommand (or no kind of `generate`): the usage, on stderr, as an error.
+                eprint!("{e}");
+                eprintln!("error: a subcommand is required (see demkit --help)");
+                return ExitCode::from(2);
+            }
+            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
                 let _ = e.print();
                 return ExitCode::SUCCESS;
             }

@@ -7,7 +7,7 @@ use demkit::geometry::ellipsoid::Ellipsoid;
 use demkit::geometry::torus::Torus;
 use demkit::population::{PopulationSpec, face_populations_at_scale};
 use demkit::shape::Shape;
-use demkit::{MapOptions, Method, Population, Surface, TriMesh};
+use demkit::{MapOption, MapOptions, Method, Population, Surface, TriMesh};
 use std::path::Path;
 use std::time::Instant;
 
@@ -105,13 +105,7 @@ pub fn compute(
         torus,
         ellipsoid,
         shape,
-        alpha: a.weights.alpha,
-        beta: a.weights.beta,
-        gamma: a.weights.gamma,
-        dt: a.dt,
-        epsilon: a.stop.epsilon,
-        max_iter: a.stop.max_iter,
-        fixed_holes: a.no_geometry_update,
+        ..numeric_options(a)
     };
     let bar = Bar::new(quiet, method.name());
     let map = demkit::map_with_progress(surface, &population, &options, &mut |p| bar.update(p));
@@ -124,17 +118,6 @@ pub fn compute(
     })
 }
 
-/// Reads and validates a mesh ([`Surface`]), printing validation warnings unless `quiet`.
-pub fn read_valid_mesh(path: &Path, quiet: bool) -> Result<Surface, Failure> {
-    let surface = Surface::from_mesh(demkit::io::read_mesh(path)?)?;
-    if !quiet {
-        for w in surface.warnings() {
-            eprintln!("warning: {w}");
-        }
-    }
-    Ok(surface)
-}
-
 /// Runs the map command; returns the exit code (0, or 3 when not converged).
 pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     let t0 = Instant::now();
@@ -142,10 +125,8 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
     if let Some(uv) = &a.uv_out {
         check_uv_extension(uv)?;
     }
-    crate::render::check_map_args(a)?;
-    if let Some(s) = &a.m.ellipsoid {
-        parse_ellipsoid(s)?;
-    }
+    crate::render::check_map_args(a, a.quiet)?;
+    check_values(&a.m)?;
     let (population, landmarks) = crate::paths::method_inputs(&a.m);
     crate::paths::check(
         &crate::paths::mesh_inputs(&a.mesh, &population, &landmarks),
@@ -157,7 +138,7 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             ("--report", a.report.as_ref()),
         ]),
     )?;
-    let surface = read_valid_mesh(&a.mesh, a.quiet)?;
+    let surface = crate::surface::read_valid_mesh(&a.mesh, a.quiet)?;
     let topo = surface.topology();
     let method = resolve_method(&a.m, topo.boundary_loops.len(), topo.genus)?;
     warn_unused(&a.m, method, a.quiet);
@@ -184,10 +165,10 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
         demkit::io::write_textured_obj(uv, mesh, &texture)?;
     }
     if let Some(png) = &a.render {
-        crate::render::render_map(png, mesh, &c, a)?;
+        crate::render::render_map(png, mesh, &c.map, a)?;
     }
     if let Some(png) = &a.histogram {
-        crate::render::render_histograms(png, mesh, &c, a)?;
+        crate::render::render_histograms(png, mesh, &c.map, a)?;
     }
     if let Some(path) = &a.report {
         let report = c.map.report(&surface, t0.elapsed().as_secs_f64());
@@ -265,62 +246,57 @@ pub fn parse_ellipsoid(s: &str) -> Result<Ellipsoid, Failure> {
     Ellipsoid::new(a, b, c).map_err(|e| Failure::input(format!("--ellipsoid: {e}")))
 }
 
-/// Warns about options the chosen method does not use.
+/// The library's options that `a` sets (a landmark file counts before it is read).
+fn options_set(a: &MethodArgs) -> Vec<MapOption> {
+    let mut set = demkit::options::set_in(&numeric_options(a));
+    for (given, option) in [
+        (a.landmarks.is_some(), MapOption::Landmarks),
+        (a.torus.is_some(), MapOption::Torus),
+        (a.shape.is_some(), MapOption::Shape),
+        (a.ellipsoid.is_some(), MapOption::Ellipsoid),
+    ] {
+        if given {
+            set.push(option);
+        }
+    }
+    set
+}
+
+/// The numbers and switches of `a` as the library's options (no landmarks, torus or shape).
+fn numeric_options(a: &MethodArgs) -> MapOptions {
+    MapOptions {
+        method: a.method.0,
+        alpha: a.weights.alpha,
+        beta: a.weights.beta,
+        gamma: a.weights.gamma,
+        dt: a.dt,
+        epsilon: a.stop.epsilon,
+        max_iter: a.stop.max_iter,
+        fixed_holes: a.no_geometry_update,
+        ..MapOptions::default()
+    }
+}
+
+/// Refuses, before anything is read, a value out of range whichever method would read it
+/// ([`demkit::options::check_values`]): a negative or non-finite weight, time step or
+/// tolerance.
+pub fn check_values(a: &MethodArgs) -> Result<(), Failure> {
+    if let Some(s) = &a.ellipsoid {
+        parse_ellipsoid(s)?;
+    }
+    Ok(demkit::options::check_values(&numeric_options(a))?)
+}
+
+/// Warns about the options the chosen method does not read ([`Method::options`]).
 pub fn warn_unused(a: &MethodArgs, m: Method, quiet: bool) {
-    if quiet {
+    let unused = demkit::options::unused(m, &options_set(a));
+    if quiet || unused.is_empty() {
         return;
     }
-    let unused: Vec<&str> = [
-        (
-            a.landmarks.is_some()
-                && !matches!(
-                    m,
-                    Method::Lsdem | Method::Sdem | Method::SphericalConformal | Method::Ldeq
-                ),
-            "--landmarks",
-        ),
-        (a.torus.is_some() && m != Method::Tdem, "--torus"),
-        (
-            a.ellipsoid.is_some() && !matches!(m, Method::Edem | Method::Edeq),
-            "--ellipsoid",
-        ),
-        (
-            a.weights.alpha.is_some()
-                && !matches!(m, Method::Lsdem | Method::Deq | Method::Ldeq | Method::Edeq),
-            "--alpha",
-        ),
-        (a.weights.beta.is_some() && m != Method::Lsdem, "--beta"),
-        (
-            a.no_geometry_update && !matches!(m, Method::Deq | Method::Ldeq),
-            "--no-geometry-update",
-        ),
-        (a.weights.gamma.is_some() && m != Method::Lsdem, "--gamma"),
-        (a.shape.is_some() && m != Method::DemShape, "--shape"),
-    ]
-    .iter()
-    .filter(|(set, _)| *set)
-    .map(|(_, n)| *n)
-    .collect();
-    if !unused.is_empty()
-        && matches!(
-            m,
-            Method::Dem
-                | Method::DemShape
-                | Method::Sdem
-                | Method::Lsdem
-                | Method::Edem
-                | Method::Edeq
-                | Method::SphericalConformal
-                | Method::Deq
-                | Method::Ldeq
-                | Method::CircleConformal
-                | Method::Tdem
-        )
-    {
-        eprintln!(
-            "warning: {} not used by --method {}",
-            unused.join(", "),
-            m.name()
-        );
-    }
+    let flags: Vec<&str> = unused.iter().map(|o| crate::flag(o.name())).collect();
+    eprintln!(
+        "warning: {} not used by --method {}",
+        flags.join(", "),
+        m.name()
+    );
 }

@@ -3,8 +3,9 @@
 
 use crate::Failure;
 use crate::args::RegisterArgs;
-use crate::map::{check_output_extension, read_valid_mesh};
+use crate::map::check_output_extension;
 use crate::progress::Bar;
+use crate::surface::read_valid_mesh;
 use demkit::TriMesh;
 use demkit::apps::register::{register, registration_config};
 use demkit::geometry::{bounding_box_diagonal, face_areas, norm, sub};
@@ -56,6 +57,15 @@ impl MapSummary {
 pub fn run(a: &RegisterArgs) -> Result<u8, Failure> {
     let t0 = Instant::now();
     check_output_extension(&a.out)?;
+    // The weights and the stop in the ranges every map's options have.
+    demkit::options::check_values(&demkit::MapOptions {
+        alpha: a.weights.alpha,
+        beta: a.weights.beta,
+        gamma: a.weights.gamma,
+        epsilon: a.stop.epsilon,
+        max_iter: a.stop.max_iter,
+        ..demkit::MapOptions::default()
+    })?;
     crate::paths::check(
         &crate::paths::given(&[
             ("A", Some(&a.a)),

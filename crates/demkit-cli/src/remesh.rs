@@ -5,7 +5,8 @@
 
 use crate::Failure;
 use crate::args::RemeshArgs;
-use crate::map::{check_output_extension, compute, read_valid_mesh, resolve_method, warn_unused};
+use crate::map::{check_output_extension, compute, resolve_method, warn_unused};
+use crate::surface::read_valid_mesh;
 use demkit::Method;
 use demkit::apps::remesh::quality::{max_distance_to_surface, quality};
 use demkit::apps::remesh::{Target, check_vertex_count, min_vertices, remesh};
@@ -63,6 +64,7 @@ struct Times {
 pub fn run(a: &RemeshArgs) -> Result<u8, Failure> {
     let t0 = Instant::now();
     check_output_extension(&a.out)?;
+    crate::map::check_values(&a.m)?;
     let (population, landmarks) = crate::paths::method_inputs(&a.m);
     crate::paths::check(
         &crate::paths::mesh_inputs(&a.mesh, &population, &landmarks),

@@ -310,6 +310,7 @@ pub fn map_with_progress(
         !options.landmarks.is_empty(),
         options.ellipsoid.is_some(),
     )?;
+    crate::options::check_for(options, method, surface)?;
     let from_spec = |spec| face_populations_at_scale(&spec, mesh, surface.exponent());
     let face_population = unit_scale(&match population {
         Population::Area => from_spec(PopulationSpec::Area)?,

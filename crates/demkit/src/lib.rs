@@ -67,6 +67,7 @@ pub mod mesh;
 pub mod methods;
 pub mod metrics;
 mod optimize;
+pub mod options;
 pub mod population;
 #[cfg(feature = "internals")]
 pub mod qc;
@@ -79,5 +80,6 @@ mod surface;
 pub use api::{Domain, Map, MapOptions, Method, Population, map, map_with_progress};
 pub use error::{Error, Result};
 pub use mesh::TriMesh;
+pub use options::MapOption;
 pub use shape::Shape;
 pub use surface::Surface;

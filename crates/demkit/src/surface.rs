@@ -44,6 +44,14 @@ impl Surface {
         &self.mesh
     }
 
+    /// The input's bounding-box diagonal, in input units.
+    pub fn input_diagonal(&self) -> f64 {
+        crate::mesh::scale::ldexp(
+            crate::geometry::bounding_box_diagonal(&self.mesh.positions),
+            -self.exponent,
+        )
+    }
+
     /// The power of two the input's coordinates were multiplied by (0 for most inputs).
     pub fn exponent(&self) -> i32 {
         self.exponent

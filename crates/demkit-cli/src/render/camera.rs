@@ -31,13 +31,13 @@ impl View {
     pub fn parse(s: &str) -> Result<View, String> {
         let bad = || {
             format!(
-                "--view must be AZIMUTH:ELEVATION in degrees with the elevation in [-90, 90] (e.g. -60:30), got '{s}'"
+                "--view must be AZIMUTH:ELEVATION in degrees with the azimuth in [-360, 360] and the elevation in [-90, 90] (e.g. -60:30), got '{s}'"
             )
         };
         let (az, el) = s.split_once(':').ok_or_else(bad)?;
         let azimuth: f64 = az.trim().parse().map_err(|_| bad())?;
         let elevation: f64 = el.trim().parse().map_err(|_| bad())?;
-        if !azimuth.is_finite() || !(-90.0..=90.0).contains(&elevation) {
+        if !(-360.0..=360.0).contains(&azimuth) || !(-90.0..=90.0).contains(&elevation) {
             return Err(bad());
         }
         Ok(View { azimuth, elevation })

@@ -2,8 +2,8 @@
 //! ratio) to the top, a thin frame, tick marks and their ratio labels on the right.
 
 use super::font::{Align, draw_text};
-use super::histogram::label;
 use super::raster::Rgb;
+use super::ticks::{label, log_ticks};
 use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Rect, Stroke, Transform};
 
 /// A colour scale: `color(t)` for t in [0, 1], where t = 0 is the ratio e^`lo` and t = 1 the
@@ -43,26 +43,6 @@ impl Scale {
         t.extend(between.into_iter().filter(|&v| v != 1.0));
         t
     }
-}
-
-/// The 1–2–5 values strictly between `a` and `b` (0 < a < b; only the powers of ten when they
-/// span over two decades), ascending: the ticks of a log axis.
-pub fn log_ticks(a: f64, b: f64) -> Vec<f64> {
-    let steps: &[f64] = if b / a > 100.0 {
-        &[1.0]
-    } else {
-        &[1.0, 2.0, 5.0]
-    };
-    let mut t = Vec::new();
-    for k in -6..=6 {
-        for m in steps {
-            let v = m * 10f64.powi(k);
-            if v > a * 1.001 && v < b / 1.001 {
-                t.push(v);
-            }
-        }
-    }
-    t
 }
 
 /// Where the bar is drawn, in pixels.

@@ -18,13 +18,13 @@ mod plot;
 mod raster;
 mod residual;
 mod scene;
+mod ticks;
 
 use crate::Failure;
 use crate::args::{MapArgs, RenderArgs};
-use crate::map::Computed;
 use camera::View;
-use demkit::TriMesh;
 use demkit::metrics::map_areas;
+use demkit::{Map, TriMesh};
 use raster::Rgb;
 use std::path::Path;
 use tiny_skia::Pixmap;
@@ -37,14 +37,17 @@ pub fn check_png_extension(path: &Path) -> Result<(), Failure> {
     crate::require_extension(path, &["png"], "pictures are written as .png")
 }
 
-/// Checks `map`'s picture options before the map is computed: .png names, `--view`, `--size`.
-pub fn check_map_args(a: &MapArgs) -> Result<(), Failure> {
+/// Checks `map`'s picture options before the map is computed: .png names, `--view`, `--size`
+/// (their values whether or not a picture is asked for). A `--view` with no picture to draw
+/// is named in a warning unless `quiet`.
+pub fn check_map_args(a: &MapArgs, quiet: bool) -> Result<(), Failure> {
     for png in [&a.render, &a.histogram].into_iter().flatten() {
         check_png_extension(png)?;
     }
-    if a.render.is_some() || a.histogram.is_some() {
-        parse_view(a.picture.view.as_deref())?;
-        check_size(a.picture.size)?;
+    parse_view(a.picture.view.as_deref())?;
+    check_size(a.picture.size)?;
+    if a.render.is_none() && a.histogram.is_none() && a.picture.view.is_some() && !quiet {
+        eprintln!("warning: --view not used without --render or --histogram");
     }
     Ok(())
 }
@@ -52,10 +55,10 @@ pub fn check_map_args(a: &MapArgs) -> Result<(), Failure> {
 /// Draws the input surface and the map side by side ([`residual::figure`]): the input
 /// coloured by its population density, the map by the density left after the map, both with
 /// a checkerboard carried from the initial map.
-pub fn render_map(png: &Path, mesh: &TriMesh, c: &Computed, a: &MapArgs) -> Result<(), Failure> {
+pub fn render_map(png: &Path, mesh: &TriMesh, map: &Map, a: &MapArgs) -> Result<(), Failure> {
     let size = check_size(a.picture.size)?;
     let view = parse_view(a.picture.view.as_deref())?;
-    write_png(png, residual::figure(mesh, &c.map, view, size))
+    write_png(png, residual::figure(mesh, map, view, size))
 }
 
 /// Draws the histograms of the face density P(T)/A(T) over its mean on the initial and on the
@@ -63,14 +66,14 @@ pub fn render_map(png: &Path, mesh: &TriMesh, c: &Computed, a: &MapArgs) -> Resu
 pub fn render_histograms(
     png: &Path,
     mesh: &TriMesh,
-    c: &Computed,
+    map: &Map,
     a: &MapArgs,
 ) -> Result<(), Failure> {
     let size = check_size(a.picture.size)?;
-    let (initial, _) = map_areas(&c.map.result.initial, &mesh.faces, c.map.metrics_domain());
-    let (last, _) = map_areas(&c.map.result.positions, &mesh.faces, c.map.metrics_domain());
-    let d0 = histogram::normalized_densities(&c.map.population, &initial);
-    let d1 = histogram::normalized_densities(&c.map.population, &last);
+    let (initial, _) = map_areas(&map.result.initial, &mesh.faces, map.metrics_domain());
+    let (last, _) = map_areas(&map.result.positions, &mesh.faces, map.metrics_domain());
+    let d0 = histogram::normalized_densities(&map.population, &initial);
+    let d1 = histogram::normalized_densities(&map.population, &last);
     write_png(png, plot::histograms(&d0, &d1, size))
 }
 
@@ -83,7 +86,7 @@ pub fn run(a: &RenderArgs) -> Result<u8, Failure> {
         &crate::paths::given(&[("MESH", Some(&a.mesh)), ("--color", a.color.as_ref())]),
         &crate::paths::given(&[("--out", Some(&a.out))]),
     )?;
-    let surface = crate::map::read_valid_mesh(&a.mesh, a.quiet)?;
+    let surface = crate::surface::read_valid_mesh(&a.mesh, a.quiet)?;
     let mesh = surface.mesh();
     let colors = match &a.color {
         Some(path) => value_colors(&read_face_values(path, mesh.n_faces())?),

@@ -3,7 +3,8 @@
 
 use super::font::text_width;
 use super::font::{Align, draw_text};
-use super::histogram::{Axis, BINS, label, nice_top};
+use super::histogram::{Axis, BINS};
+use super::ticks::{label, nice_top};
 use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Rect, Stroke, StrokeDash, Transform};
 
 /// Bar colours of the initial and the final panel.

@@ -4,7 +4,7 @@ use std::collections::HashMap;
 use std::f64::consts::{PI, TAU};
 
 use super::{at_least, fits, positive, smaller};
-use crate::{Result, TriMesh};
+use crate::{Error, Result, TriMesh};
 
 /// The unit sphere as a subdivided icosahedron: each of `subdivisions` rounds splits every face
 /// into four at its edge midpoints and projects the new vertices onto the sphere.
@@ -132,17 +132,28 @@ pub fn uv_sphere(n_lat: usize, n_lon: usize) -> Result<TriMesh> {
     Ok(TriMesh::new(positions, faces))
 }
 
+/// The thinnest tube [`torus`] makes, as a fraction of the ring's radius: R + r cos v keeps
+/// r's digits to about 1e-4 of it.
+pub const THINNEST_TUBE: f64 = 1e-12;
+
 /// A torus of revolution about the z-axis: tube centre at distance `big_r` from the axis, tube
 /// radius `small_r`. Vertex (i, j), with index `i*n_minor + j`, is at
 /// ((R + r cos v) cos u, (R + r cos v) sin u, r sin v) for u = 2πi/n_major, v = 2πj/n_minor;
 /// each (u, v) cell is split along the same diagonal into two faces.
 /// n_major·n_minor vertices, 2·n_major·n_minor faces, outward normals; area close to 4π²Rr.
 ///
-/// Errors: radii not finite with 0 < `small_r` < `big_r`; `n_major` or `n_minor` < 3.
+/// Errors: radii not finite with 0 < `small_r` < `big_r`, or `small_r` below
+/// [`THINNEST_TUBE`] times `big_r`; `n_major` or `n_minor` < 3.
 pub fn torus(big_r: f64, small_r: f64, n_major: usize, n_minor: usize) -> Result<TriMesh> {
     positive("big_r", big_r)?;
     positive("small_r", small_r)?;
     smaller(("small_r", small_r), ("big_r", big_r))?;
+    if small_r < THINNEST_TUBE * big_r {
+        return Err(Error::Argument(format!(
+            "small_r must be at least {THINNEST_TUBE:e} times big_r (a thinner tube vanishes in \
+             rounding beside the ring), got {small_r:?} and {big_r:?}"
+        )));
+    }
     at_least("n_major", n_major, 3)?;
     at_least("n_minor", n_minor, 3)?;
     let n_vertices = n_major.checked_mul(n_minor);

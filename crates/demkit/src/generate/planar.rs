@@ -138,13 +138,17 @@ pub fn disk_with_holes(holes: &[(f64, f64, f64)], resolution: usize) -> Result<T
     holed_domain(Outer::Disk, holes, resolution)
 }
 
+/// The largest ratio of a holed rectangle's sides: 1e100 failed to triangulate, 1e12 did not.
+const MAX_ASPECT: f64 = 1e12;
+
 /// The rectangle [−W/2, W/2] × [−H/2, H/2] minus circular holes `(cx, cy, r)` (z = 0), built
 /// like [`disk_with_holes`]: the rectangle's sides split evenly with spacing about
 /// h = max(W, H)/`resolution` (corners included), holes as m-gons with m = max(8, ⌈2πr/h⌉),
 /// lattice points of spacing h at least h/2 from every boundary, constrained Delaunay.
 ///
 /// Errors: `resolution` < 4; W or H not positive and finite; hole errors as for
-/// [`disk_with_holes`] (a hole must lie strictly inside the rectangle).
+/// [`disk_with_holes`] (a hole must lie strictly inside the rectangle); one side more than
+/// 1e12 times the other.
 pub fn rectangle_with_holes(
     width: f64,
     height: f64,
@@ -154,6 +158,13 @@ pub fn rectangle_with_holes(
     at_least("resolution", resolution, 4)?;
     positive("the width", width)?;
     positive("the height", height)?;
+    if width.max(height) > MAX_ASPECT * width.min(height) {
+        // The short side's vertices then coincide with the long side's in rounding.
+        return Err(Error::Argument(format!(
+            "the width and the height must be within a factor {MAX_ASPECT:e} of each other, \
+             got {width:e} and {height:e}"
+        )));
+    }
     holed_domain(Outer::Rectangle(width, height), holes, resolution)
 }
 

@@ -364,29 +364,37 @@ mod tests {
         }
     }
 
-    #[test]
-    fn refinement_fills_a_square_with_a_hole_and_respects_the_area_bound() {
-        // Outer square [0,4]², hole [1,2]² (clockwise or not does not matter: even-odd).
+    /// The square [0, side]² with the hole [1, 2]², as points and segments.
+    fn square_with_hole(side: f64) -> ([[f64; 2]; 8], [[usize; 2]; 8]) {
         let p = [
             [0.0, 0.0],
-            [4.0, 0.0],
-            [4.0, 4.0],
-            [0.0, 4.0],
+            [side, 0.0],
+            [side, side],
+            [0.0, side],
             [1.0, 1.0],
             [2.0, 1.0],
             [2.0, 2.0],
             [1.0, 2.0],
         ];
-        let seg = [
-            [0, 1],
-            [1, 2],
-            [2, 3],
-            [3, 0],
-            [4, 5],
-            [5, 6],
-            [6, 7],
-            [7, 4],
-        ];
+        (
+            p,
+            [
+                [0, 1],
+                [1, 2],
+                [2, 3],
+                [3, 0],
+                [4, 5],
+                [5, 6],
+                [6, 7],
+                [7, 4],
+            ],
+        )
+    }
+
+    #[test]
+    fn refinement_fills_a_square_with_a_hole_and_respects_the_area_bound() {
+        // Outer square [0,4]², hole [1,2]² (clockwise or not does not matter: even-odd).
+        let (p, seg) = square_with_hole(4.0);
         let r = Refinement {
             max_area: Some(0.05),
             ..Default::default()
@@ -404,26 +412,7 @@ mod tests {
 
     #[test]
     fn faces_inside_drops_the_hole() {
-        let p = [
-            [0.0, 0.0],
-            [3.0, 0.0],
-            [3.0, 3.0],
-            [0.0, 3.0],
-            [1.0, 1.0],
-            [2.0, 1.0],
-            [2.0, 2.0],
-            [1.0, 2.0],
-        ];
-        let seg = [
-            [0, 1],
-            [1, 2],
-            [2, 3],
-            [3, 0],
-            [4, 5],
-            [5, 6],
-            [6, 7],
-            [7, 4],
-        ];
+        let (p, seg) = square_with_hole(3.0);
         let t = constrained_delaunay(&p, &seg).unwrap();
         assert!((total_area(&t) - 9.0).abs() < 1e-12);
         let inside = faces_inside(&t.points, &t.faces, &[vec![0, 1, 2, 3], vec![4, 5, 6, 7]]);

@@ -68,23 +68,25 @@ impl Transforms {
     }
 
     /// The cosine coefficients of `rho` (row-major cells; unnormalised DCT-II along both
-    /// axes), column-major.
-    fn forward(&self, rho: &[f64]) -> Vec<f64> {
+    /// axes), column-major, and a second buffer of the same size the transform used as
+    /// scratch (its content undefined), for the caller to reuse.
+    fn forward(&self, rho: &[f64]) -> (Vec<f64>, Vec<f64>) {
         let (nx, ny) = (self.nx, self.ny);
         let mut a = rho.to_vec();
         a.par_chunks_mut(nx).for_each(|r| self.row.process_dct2(r));
         let mut t = vec![0.0; nx * ny];
         transpose(&a, ny, nx, &mut t);
         t.par_chunks_mut(ny).for_each(|c| self.col.process_dct2(c));
-        t
+        (t, a)
     }
 
     /// The values at the cell centres (row-major) of the series with the column-major
     /// coefficients `coef` (as from [`Transforms::forward`], already multiplied by whatever
     /// the series needs), each axis summed as a cosine or a sine series, times `scale`. For
     /// a sine series the coefficient of frequency k is read at index k (k ≥ 1) and shifted
-    /// into the transform's own layout here. `coef` is used as scratch.
-    fn inverse(&self, coef: &mut [f64], x: Series, y: Series, scale: f64) -> Vec<f64> {
+    /// into the transform's own layout here. `coef` is used as scratch; the values are
+    /// written into `out` (nx × ny).
+    fn inverse(&self, coef: &mut [f64], x: Series, y: Series, scale: f64, out: &mut [f64]) {
         let (nx, ny) = (self.nx, self.ny);
         let shift = |r: &mut [f64], s: Series| {
             if s == Series::Sine {
@@ -102,8 +104,7 @@ impl Transforms {
                 Series::Sine => self.col.process_dst3(c),
             }
         });
-        let mut out = vec![0.0; nx * ny];
-        transpose(coef, nx, ny, &mut out);
+        transpose(coef, nx, ny, out);
         out.par_chunks_mut(nx).for_each(|r| {
             shift(r, x);
             match x {
@@ -112,7 +113,6 @@ impl Transforms {
             }
             r.iter_mut().for_each(|v| *v *= scale);
         });
-        out
     }
 }
 
@@ -145,23 +145,31 @@ fn locate(x: f64, n: usize) -> (usize, f64) {
     }
 }
 
-/// The cell-centred `field` (nx × ny) padded with a ghost line on each wall: copies of the
-/// nearest centres, or zero on the walls across which `normal` (0: x, 1: y) points.
-fn pad(field: &[f64], nx: usize, ny: usize, normal: Option<usize>) -> Vec<f64> {
+/// The cell-centred `field` (nx × ny) written into component `q` of the padded `samples`
+/// ((nx + 2) × (ny + 2), zero on entry), with a ghost line on each wall: copies of the
+/// nearest centres, or left zero on the walls across which `normal` (0: x, 1: y) points.
+fn pad(
+    field: &[f64],
+    nx: usize,
+    ny: usize,
+    normal: Option<usize>,
+    samples: &mut [[f64; 3]],
+    q: usize,
+) {
     let (px, py) = (nx + 2, ny + 2);
-    let mut out = vec![0.0; px * py];
-    out.par_chunks_mut(px).enumerate().for_each(|(j, row)| {
+    samples.par_chunks_mut(px).enumerate().for_each(|(j, row)| {
         if normal == Some(1) && (j == 0 || j == py - 1) {
             return;
         }
         let src = &field[(j.clamp(1, ny) - 1) * nx..][..nx];
-        row[1..=nx].copy_from_slice(src);
+        for (s, &v) in row[1..=nx].iter_mut().zip(src) {
+            s[q] = v;
+        }
         if normal != Some(0) {
-            row[0] = src[0];
-            row[nx + 1] = src[nx - 1];
+            row[0][q] = src[0];
+            row[nx + 1][q] = src[nx - 1];
         }
     });
-    out
 }
 
 impl Flow {
@@ -170,7 +178,10 @@ impl Flow {
     /// which softens the steps of density between regions.
     pub fn new(rho: &[f64], nx: usize, ny: usize, blur: f64) -> Flow {
         let tr = Transforms::new(nx, ny);
-        let coef = tr.forward(rho);
+        // The blurred density's coefficients replace the density's in `coef`; the flux's
+        // go into the forward transform's scratch and one more buffer.
+        let (mut coef, mut dx) = tr.forward(rho);
+        let mean = coef.first().copied().unwrap_or(0.0) / (nx * ny) as f64;
         // Per axis: the wavenumber π k / n, its square, and the blur's decay.
         let axis = |n: usize| -> Vec<(f64, f64, f64)> {
             (0..n)
@@ -181,11 +192,8 @@ impl Flow {
                 .collect()
         };
         let (ax, ay) = (axis(nx), axis(ny));
-        let mut blurred = vec![0.0; nx * ny];
-        let mut dx = vec![0.0; nx * ny];
         let mut dy = vec![0.0; nx * ny];
-        blurred
-            .par_chunks_mut(ny)
+        coef.par_chunks_mut(ny)
             .zip(dx.par_chunks_mut(ny))
             .zip(dy.par_chunks_mut(ny))
             .enumerate()
@@ -193,7 +201,7 @@ impl Flow {
                 let (wx, wx2, ex) = ax[kx];
                 for ky in 0..ny {
                     let (wy, wy2, ey) = ay[ky];
-                    let c = coef[kx * ny + ky] * ex * ey;
+                    let c = b[ky] * ex * ey;
                     b[ky] = c;
                     // Ψ's coefficient (∇²Ψ = ρ₀ − ρ̄, the mean dropped), then the
                     // derivatives' sine coefficients.
@@ -204,20 +212,15 @@ impl Flow {
                 }
             });
         let scale = 4.0 / (nx * ny) as f64;
-        let rho0 = tr.inverse(&mut blurred, Series::Cosine, Series::Cosine, scale);
-        let gx = tr.inverse(&mut dx, Series::Sine, Series::Cosine, scale);
-        let gy = tr.inverse(&mut dy, Series::Cosine, Series::Sine, scale);
-        let mean = coef.first().copied().unwrap_or(0.0) / (nx * ny) as f64;
-        let (fx, fy, rho) = (
-            pad(&gx, nx, ny, Some(0)),
-            pad(&gy, nx, ny, Some(1)),
-            pad(&rho0, nx, ny, None),
-        );
-        let samples = fx
-            .par_iter()
-            .zip(fy.par_iter().zip(rho.par_iter()))
-            .map(|(&a, (&b, &c))| [a, b, c])
-            .collect();
+        let mut samples = vec![[0.0; 3]; (nx + 2) * (ny + 2)];
+        // Each inverse writes into a buffer whose coefficients are spent.
+        let mut out = vec![0.0; nx * ny];
+        tr.inverse(&mut dy, Series::Cosine, Series::Sine, scale, &mut out);
+        pad(&out, nx, ny, Some(1), &mut samples, 1);
+        tr.inverse(&mut coef, Series::Cosine, Series::Cosine, scale, &mut out);
+        pad(&out, nx, ny, None, &mut samples, 2);
+        tr.inverse(&mut dx, Series::Sine, Series::Cosine, scale, &mut out);
+        pad(&out, nx, ny, Some(0), &mut samples, 0);
         Flow {
             nx,
             ny,

@@ -250,7 +250,7 @@ pub fn replace_coordinates(fc: &FeatureCollection, polygons: &[Vec<Polygon>]) ->
 /// A GeoJSON ring: closed, counter-clockwise when `exterior`, clockwise otherwise.
 fn closed_ring(ring: &[[f64; 2]], exterior: bool) -> Vec<Position> {
     let mut pts: Vec<[f64; 2]> = ring.to_vec();
-    if (super::regions::ring_orientation(&pts) > 0.0) != exterior {
+    if (super::rings::ring_orientation(&pts) > 0.0) != exterior {
         pts.reverse();
     }
     if let Some(&first) = pts.first() {
@@ -323,8 +323,8 @@ mod tests {
         assert_eq!(back.features[0].properties, fc.features[0].properties);
         let rings = &r[0].polygons[0];
         assert_eq!(rings[0].first(), rings[0].last());
-        assert!(super::super::regions::ring_area(&rings[0][..4]) > 0.0);
-        assert!(super::super::regions::ring_area(&rings[1][..4]) < 0.0);
+        assert!(super::super::rings::ring_area(&rings[0][..4]) > 0.0);
+        assert!(super::super::rings::ring_area(&rings[1][..4]) < 0.0);
         assert!(r[1].multi && r[1].polygons.len() == 2);
     }
 }

@@ -19,6 +19,7 @@ use super::rings::{bbox, map_polygons};
 use super::{Cartogram, Config, Polygon, finish, share_errors, unit_values};
 use crate::methods::{Progress, ProgressFn, StopReason};
 use crate::{Error, Result};
+use std::collections::HashSet;
 use std::time::Instant;
 
 /// The sea around the map on every side, as a fraction of the map's larger extent.
@@ -99,8 +100,9 @@ fn worst(errors: &[f64], targets: &[f64]) -> f64 {
 /// The largest gain of [`update_gain`].
 const MAX_GAIN: f64 = 4.0;
 
-/// A region whose share is within this log-ratio of its target gets no gain.
-const MIN_WANTED: f64 = 0.02;
+/// A region whose share is within this fraction of the accuracy asked for
+/// ([`Config::tolerance`]) of its target gets no gain.
+const NO_GAIN_WITHIN: f64 = 0.5;
 
 /// Adapts every region's gain, the exponent its density contrast is raised to in a round: a
 /// round moves a region's share only part of the way to its target when the region spans few
@@ -108,7 +110,13 @@ const MIN_WANTED: f64 = 0.02;
 /// more (the geometric mean of its gain and the inverse of the fraction achieved, within
 /// [1, [`MAX_GAIN`]]; back to 1 after a round that went past the target). At the target the
 /// contrast is 1 whatever the gain, so the fixed point is the cartogram's.
-fn update_gain(gain: &mut [f64], targets: &[f64], before: &[f64], after: &[f64]) {
+fn update_gain(
+    gain: &mut [f64],
+    targets: &[f64],
+    (before, after): (&[f64], &[f64]),
+    tolerance: f64,
+) {
+    let min_wanted = NO_GAIN_WITHIN * tolerance;
     let (tb, ta): (f64, f64) = (before.iter().sum(), after.iter().sum());
     for i in 0..gain.len() {
         let (sb, sa) = (before[i] / tb, after[i] / ta);
@@ -117,7 +125,7 @@ fn update_gain(gain: &mut [f64], targets: &[f64], before: &[f64], after: &[f64])
         }
         let wanted = (targets[i] / sb).ln();
         let achieved = (sa / sb).ln();
-        if wanted.abs() < MIN_WANTED {
+        if wanted.abs() < min_wanted {
             gain[i] = 1.0;
             continue;
         }
@@ -147,15 +155,17 @@ struct Setup {
     walls: Option<[f64; 2]>,
 }
 
-/// One round of the flow: rasterize, diffuse, move `points` (in place). Returns the
+/// One round of the flow: rasterize, diffuse, move `points` (in place), the density contrast
+/// raised to `gain` after a blur of `blur`. `clean` says on entry whether the map is known to
+/// have no crossing edge, and on return whether the round ended with none. Returns the
 /// integration steps taken and the grid.
 fn round(
     points: &mut Vec<[f64; 2]>,
     rings: &mut [IndexRings],
     values: &[f64],
     setup: &Setup,
-    blur: f64,
-    gain: &[f64],
+    (blur, gain): (f64, &[f64]),
+    clean: &mut bool,
 ) -> (usize, [usize; 2]) {
     let Setup {
         grid,
@@ -212,13 +222,22 @@ fn round(
     let rho = raster::density(points, rings, &density, sea, nx, ny);
     let flow = Flow::new(&rho, nx, ny, blur);
     let mut start = points.clone();
-    let crossing_before = crossing_edges(points, rings);
+    // A map known to have no crossing edge keeps none when its edges are split on
+    // themselves (densify): no need to look for them again.
+    let crossing_before = if *clean {
+        HashSet::new()
+    } else {
+        crossing_edges(points, rings)
+    };
     let integration = advect(&flow, nx, ny, points, max_steps);
+    *clean = false;
     for _ in 0..REFINEMENTS {
         let mut crossing = crossing_edges(points, rings);
+        let none = crossing.is_empty();
         // Crossings the round started with are not the flow's to mend.
         crossing.retain(|e| !crossing_before.contains(e));
         if crossing.is_empty() {
+            *clean = none;
             break;
         }
         // Straight edges between moved vertices crossed where the flow bends them more than
@@ -288,6 +307,8 @@ pub fn flow(
     let mut stop_reason = StopReason::MaxIter;
     let mut notes = Vec::new();
     let mut gain = vec![1.0; values.len()];
+    // Whether the map is known to have no crossing edge (see `round`).
+    let mut clean = false;
     loop {
         let errors = share_errors(&values, &region_areas(&points, &rings));
         let w = worst(&errors, &targets);
@@ -321,6 +342,7 @@ pub fn flow(
             if let Some((_, p, r)) = &best {
                 points.clone_from(p);
                 rings.clone_from(r);
+                clean = false;
             }
         } else if since_best >= STALL_ROUNDS {
             stop_reason = StopReason::Stationary;
@@ -342,8 +364,20 @@ pub fn flow(
         }
         let blur = BLUR * 0.5f64.powi(rounds as i32);
         let before = region_areas(&points, &rings);
-        let (s, g) = round(&mut points, &mut rings, &values, &setup, blur, &gain);
-        update_gain(&mut gain, &targets, &before, &region_areas(&points, &rings));
+        let (s, g) = round(
+            &mut points,
+            &mut rings,
+            &values,
+            &setup,
+            (blur, &gain),
+            &mut clean,
+        );
+        update_gain(
+            &mut gain,
+            &targets,
+            (&before, &region_areas(&points, &rings)),
+            config.tolerance,
+        );
         steps += s;
         rounds += 1;
         grid_used = g;

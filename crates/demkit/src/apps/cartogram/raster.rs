@@ -25,9 +25,32 @@ pub fn density(
 ) -> Vec<f64> {
     let mut mass = vec![0.0; nx * ny];
     let mut cover = vec![0.0; nx * ny];
-    // Crossings of scanlines: (scanline, region, x).
-    let mut crossings: Vec<(u32, u32, f64)> = Vec::new();
     let rows = (ny * SUBROWS) as f64;
+    // The scanlines an edge from `a` to `b` crosses: s with s in (min, max], where
+    // y_s = (s + 0.5) / SUBROWS.
+    let span = |a: [f64; 2], b: [f64; 2]| {
+        let (s0, s1) = (a[1] * SUBROWS as f64 - 0.5, b[1] * SUBROWS as f64 - 0.5);
+        let from = (s0.min(s1).floor() + 1.0).max(0.0);
+        let to = s0.max(s1).floor().min(rows - 1.0);
+        (s0, s1, from, to)
+    };
+    // Crossings of scanlines: (scanline, region, x), counted first so that the list is
+    // allocated once.
+    let count: usize = regions
+        .iter()
+        .flatten()
+        .flatten()
+        .map(|ring| {
+            (0..ring.len())
+                .map(|i| {
+                    let (a, b) = (points[ring[i]], points[ring[(i + 1) % ring.len()]]);
+                    let (_, _, from, to) = span(a, b);
+                    (to - from + 1.0).max(0.0) as usize
+                })
+                .sum::<usize>()
+        })
+        .sum();
+    let mut crossings: Vec<(u32, u32, f64)> = Vec::with_capacity(count);
     let cell_of = |p: [f64; 2]| {
         let x = (p[0].floor().max(0.0) as usize).min(nx - 1);
         let y = (p[1].floor().max(0.0) as usize).min(ny - 1);
@@ -48,10 +71,7 @@ pub fn density(
                 let n = ring.len();
                 for i in 0..n {
                     let (a, b) = (points[ring[i]], points[ring[(i + 1) % n]]);
-                    let (s0, s1) = (a[1] * SUBROWS as f64 - 0.5, b[1] * SUBROWS as f64 - 0.5);
-                    // Scanlines s with s in (min, max]: y_s = (s + 0.5) / SUBROWS.
-                    let from = (s0.min(s1).floor() + 1.0).max(0.0);
-                    let to = s0.max(s1).floor().min(rows - 1.0);
+                    let (s0, s1, from, to) = span(a, b);
                     let mut s = from;
                     while s <= to {
                         let f = (s - s0) / (s1 - s0);
@@ -87,10 +107,10 @@ pub fn density(
         }
         k += 2;
     }
-    mass.iter()
-        .zip(&cover)
-        .map(|(m, c)| m + (1.0 - c).max(0.0) * sea)
-        .collect()
+    for (m, c) in mass.iter_mut().zip(&cover) {
+        *m += (1.0 - c).max(0.0) * sea;
+    }
+    mass
 }
 
 /// The area (holes subtracted) and area centroid of a polygon's rings.

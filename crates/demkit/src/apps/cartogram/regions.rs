@@ -165,6 +165,7 @@ impl RegionSet {
         set.split_t_junctions(tol, NEAR * diag);
         set.check_crossings(path, tol)?;
         set.check_holes_inside(path)?;
+        set.check_sides(path)?;
         Ok(set)
     }
 

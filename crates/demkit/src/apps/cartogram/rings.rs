@@ -2,8 +2,6 @@
 //! polygon with holes, point-in-ring, orientation of a point to a line, point-to-segment
 //! distance and bounding boxes.
 
-use super::Polygon;
-
 /// Twice the signed area of a closed ring given without closing point, halved: positive when
 /// counter-clockwise (shoelace formula).
 pub fn ring_area(ring: &[[f64; 2]]) -> f64 {
@@ -107,12 +105,13 @@ pub(crate) fn max2(a: [f64; 2], b: [f64; 2], pad: f64) -> [f64; 2] {
     [a[0].max(b[0]) + pad, a[1].max(b[1]) + pad]
 }
 
-/// One region's polygons with every ring vertex `v` replaced by `point(v)`: index rings made
-/// coordinates, or coordinates carried to another frame.
-pub(crate) fn map_polygons<T: Copy>(
+/// One region's polygons with every ring vertex `v` replaced by `point(v)`, in ring order:
+/// index rings made coordinates, coordinates carried to another frame, or coordinates
+/// numbered.
+pub(crate) fn map_polygons<T: Copy, U>(
     polygons: &[Vec<Vec<T>>],
-    point: impl Fn(T) -> [f64; 2],
-) -> Vec<Polygon> {
+    mut point: impl FnMut(T) -> U,
+) -> Vec<Vec<Vec<U>>> {
     polygons
         .iter()
         .map(|p| {

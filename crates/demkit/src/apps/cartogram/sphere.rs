@@ -1,15 +1,15 @@
 //! The cartogram on the globe: longitude/latitude degrees are projected to an equal-area
 //! cylindrical projection (standard parallels ±[`STANDARD_PARALLEL`]°, areas in steradians),
 //! the planar flow ([`super::planar::flow`]) equalizes the density there, and the result is
-//! projected back. Equal areas in the projection are equal areas on the globe, so the shares
-//! reached in the plane are those on the sphere. The flow's grid has its walls on the poles,
+//! projected back ([`super::degrees`]). Equal areas in the projection are equal areas on the
+//! globe, so the shares reached in the plane are those on the sphere. The flow's grid has its walls on the poles,
 //! so no point is moved past them.
 
+use super::degrees::to_degrees_indexed;
 use super::planar::flow;
 use super::raster::IndexRings;
 use super::regions::RegionSet;
-use super::rings::map_polygons;
-use super::{Cartogram, Config, Polygon, figures};
+use super::{Cartogram, Config, figures};
 use crate::Result;
 use crate::methods::ProgressFn;
 
@@ -55,11 +55,8 @@ pub fn run(
         progress,
     )?;
     let out_areas = super::planar::region_areas(&f.points, &f.rings);
-    let coordinates: Vec<Vec<Polygon>> = f
-        .coordinates
-        .iter()
-        .map(|polys| map_polygons(polys, unproject))
-        .collect();
+    // Written in degrees with the edges split where their chords would cross.
+    let (coordinates, _) = to_degrees_indexed(f.points, f.rings, unproject);
     Ok(figures(
         set,
         coordinates,

@@ -9,6 +9,7 @@ use super::Polygon;
 use super::buckets::Buckets;
 use super::crossings::{crossing_point, proper_crossings};
 use super::regions::{Frame, bbox, inside_ring, ring_area, segment_distance};
+use super::rings::map_polygons;
 use std::collections::HashSet;
 
 /// Distances below this fraction of the map's larger half-side are rounding.
@@ -90,17 +91,7 @@ pub fn check(coordinates: &[Vec<Polygon>], labels: &[String]) -> Vec<Invalid> {
     // In the normalised frame: no overflow in the orientation tests.
     let unit: Vec<Vec<Polygon>> = coordinates
         .iter()
-        .map(|polys| {
-            polys
-                .iter()
-                .map(|rings| {
-                    rings
-                        .iter()
-                        .map(|r| r.iter().map(|&p| frame.to_unit(p)).collect())
-                        .collect()
-                })
-                .collect()
-        })
+        .map(|polys| map_polygons(polys, |p| frame.to_unit(p)))
         .collect();
     let mut edges = Vec::new();
     for (r, polys) in unit.iter().enumerate() {

@@ -29,6 +29,7 @@
 
 mod beltrami;
 mod chords;
+mod circle;
 mod circles;
 mod energy;
 mod equalize;

@@ -8,7 +8,7 @@
 //! inside the circle are laid out again after every move by Tutte's embedding with the circle's vertices
 //! fixed — a convex boundary, so the filling never folds, whatever the hole did.
 
-use super::circles::Circle;
+use super::circle::Circle;
 use super::layout::Hole;
 use crate::Result;
 use crate::fem::{DirichletSystem, uniform_weights};
