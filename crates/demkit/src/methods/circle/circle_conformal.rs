@@ -7,6 +7,12 @@ use crate::methods::{MapResult, StopReason};
 use crate::{Result, TriMesh};
 use std::time::Instant;
 
+/// The largest mean |μ| (from the surface to the map) of a map reported as conformal: a
+/// discrete conformal map of a surface it can represent stays far below (0.03–0.08 on the
+/// papers' surfaces and on holes cut into scans); one that had to stiffen a corridor crushed
+/// towards the limits of double precision to stay bijective is far above (0.8–0.9).
+const MAX_MEAN_MU: f64 = 0.25;
+
 /// What the stand-in of a refused run is when DEQ's initial map could be computed.
 const DEQ_STAND_IN: &str =
     "DEQ's initial map instead (a bijective map onto a circle domain, not conformal)";
@@ -16,7 +22,9 @@ const DEQ_STAND_IN: &str =
 /// automorphisms) the one whose areas best match `population`. When that map cannot be
 /// computed (it would shrink a region below double precision, or its iteration breaks down or
 /// ends folded), the run is refused ([`super::refusal`]) with DEQ's initial map as the
-/// stand-in, or the surface laid flat when that fails too.
+/// stand-in, or the surface laid flat when that fails too. A bijective map far from conformal
+/// (mean |μ| above 0.25: the iteration had to stiffen a crushed corridor to keep it
+/// bijective) is returned not converged, the reason in its notes.
 ///
 /// A mesh whose holes have chords (edges joining two vertices of the same hole, which no
 /// circle domain holds outside the hole's circle) is mapped with them split, as DEQ maps it;
@@ -31,8 +39,9 @@ pub fn run(mesh: &TriMesh, population: &[f64]) -> Result<MapResult> {
 /// [`run`] on a mesh whose holes have no chords, its boundary loops `loops`.
 fn chordless(mesh: &TriMesh, population: &[f64], loops: &[Vec<u32>]) -> Result<MapResult> {
     let t0 = Instant::now();
-    let domain = match numerical(crate::init::circle_domain::circle_domain_map(mesh, loops))? {
-        Ok(domain) => domain,
+    let computed = crate::init::circle_domain::circle_domain_map_with_report(mesh, loops);
+    let (domain, report) = match numerical(computed)? {
+        Ok(found) => found,
         Err(why) => {
             let mut result = match numerical(initial_circle_domain(mesh, population, loops))? {
                 Ok(x) => refused("circle-conformal", x, &why, DEQ_STAND_IN),
@@ -48,14 +57,39 @@ fn chordless(mesh: &TriMesh, population: &[f64], loops: &[Vec<u32>]) -> Result<M
         }
     };
     let domain = crate::init::disk_mobius::balance_areas(&domain, &mesh.faces, population);
+    let positions = domain.positions;
+    let mu = crate::metrics::compute(
+        mesh,
+        population,
+        &positions,
+        &positions,
+        crate::metrics::Domain::Plane,
+        None,
+    )
+    .mean_abs_mu;
+    let conformal = mu <= MAX_MEAN_MU;
+    let stop_reason = if conformal {
+        StopReason::Tolerance
+    } else {
+        StopReason::MaxIter
+    };
     let mut result = MapResult::new(
         "circle-conformal",
-        domain.positions.clone(),
-        domain.positions,
-        StopReason::Tolerance,
+        positions.clone(),
+        positions,
+        stop_reason,
         0,
         Vec::new(),
     );
+    if !conformal {
+        result.notes.push(format!(
+            "the conformal map could not be computed accurately: its mean |mu| is {mu:.3} \
+             (above {MAX_MEAN_MU}), {} faces were stiffened to keep it bijective; part of the \
+             surface is shrunk towards the limits of double precision (a long corridor, such \
+             as a spiral); the result is that bijective circle domain map",
+            report.stiffened_faces
+        ));
+    }
     result.time_init = t0.elapsed().as_secs_f64();
     Ok(result)
 }
