@@ -188,7 +188,10 @@ pub fn run(a: &MapArgs) -> Result<u8, Failure> {
             t0.elapsed().as_secs_f64()
         );
     }
-    if metrics.flipped_triangles > 0 {
+    // A refused run (the method could not compute its map: the reason is in the notes) is not
+    // converged, exit 3, whatever its stand-in; any other map with flipped triangles is an
+    // error.
+    if metrics.flipped_triangles > 0 && !result.refused {
         eprintln!(
             "error: the map has {} flipped triangles",
             metrics.flipped_triangles

@@ -176,3 +176,41 @@ fn a_density_deq_could_not_equalize_is_exit_3() {
     assert!(r["metrics"]["face_density_var_final"].as_f64().unwrap() > 0.25);
     assert!(notes(&r).contains("not equalized"), "{}", notes(&r));
 }
+
+/// A surface whose conformal circle domain map cannot be represented in double precision
+/// (amoeba2's spiral corridor, from `DEMKIT_DATA`): `--method circle-conformal` is refused
+/// with exit 3, the reason in the report's notes and a bijective stand-in written, never
+/// exit 1; DEQ maps it.
+#[test]
+#[ignore = "needs real meshes (DEMKIT_DATA)"]
+fn an_unrepresentable_circle_domain_map_is_exit_3_with_the_reason() {
+    let data = std::env::var("DEMKIT_DATA").unwrap_or_else(|_| {
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data").to_string()
+    });
+    let amoeba2 = format!("{data}/multiply-connected/amoeba2.obj");
+    let s = Scratch::new("refused");
+    let out = s.run(&[
+        "map",
+        &amoeba2,
+        "--method",
+        "circle-conformal",
+        "--out",
+        "o.obj",
+        "--report",
+        "r.json",
+        "--quiet",
+    ]);
+    out.assert_code(3);
+    let r = report(&s);
+    assert_eq!(r["converged"], Value::Bool(false));
+    assert!(
+        notes(&r).contains("below double precision"),
+        "{}",
+        notes(&r)
+    );
+    assert_eq!(r["metrics"]["flipped_triangles"], 0);
+    s.run(&[
+        "map", &amoeba2, "--method", "deq", "--out", "d.obj", "--quiet",
+    ])
+    .assert_code(0);
+}

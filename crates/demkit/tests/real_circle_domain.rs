@@ -14,6 +14,9 @@ use std::time::Instant;
 
 mod common;
 use common::{SERIAL, data};
+#[path = "common/cut.rs"]
+mod cut;
+use cut::{cut_holes, random_holes};
 
 fn load(rel: &str) -> TriMesh {
     let mesh = demkit::io::read_mesh(&data(rel)).unwrap();
@@ -145,4 +148,73 @@ fn amoeba2_is_refused() {
         }
         other => panic!("amoeba2: expected a numerical error, got {other:?}"),
     }
+}
+
+/// `--method circle-conformal` on surfaces DEQ accepts: a bijective map (the chords of cut
+/// holes split, as DEQ splits them), or a refused run, not converged, with the reason in its
+/// notes and a bijective stand-in; never an error. `conformal` names the surfaces expected to
+/// map (mean |μ| below 0.1); the others may be refused.
+fn circle_conformal_maps_or_refuses(name: &str, mesh: &TriMesh, conformal: bool) {
+    let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let pop = demkit::population::face_populations(
+        &demkit::population::PopulationSpec::parse("area"),
+        mesh,
+    )
+    .unwrap();
+    let t = Instant::now();
+    let r = demkit::methods::circle_conformal::run(mesh, &pop).unwrap();
+    let (mapped, pop) = match &r.refined {
+        Some(s) => (&s.mesh, s.population.clone()),
+        None => (mesh, pop),
+    };
+    let m = demkit::metrics::compute(
+        mapped,
+        &pop,
+        &r.initial,
+        &r.positions,
+        demkit::metrics::Domain::Plane,
+        None,
+    );
+    eprintln!(
+        "{name}: {:.2} s, converged {}, refused {}, flipped {}, mean |mu| {:.3}, notes {:?}",
+        t.elapsed().as_secs_f64(),
+        r.converged,
+        r.refused,
+        m.flipped_triangles,
+        m.mean_abs_mu,
+        r.notes
+    );
+    assert_eq!(m.flipped_triangles, 0, "{name}");
+    if r.refused {
+        assert!(!conformal, "{name}: expected a conformal map");
+        assert!(!r.converged);
+        assert!(r.notes.iter().any(|n| n.contains("could not compute")));
+    } else {
+        assert!(r.converged);
+        assert!(m.mean_abs_mu < 0.1, "{name}: mean |mu| {}", m.mean_abs_mu);
+    }
+}
+
+#[test]
+#[ignore = "needs real meshes (DEMKIT_DATA)"]
+fn circle_conformal_face_with_eye_holes() {
+    let face = load("open/human_face.obj");
+    let eyes = [([0.028, 0.265, 0.0], 0.012), ([-0.028, 0.265, 0.0], 0.012)];
+    let mesh = cut_holes(&face, &eyes, true);
+    circle_conformal_maps_or_refuses("face with eye holes", &mesh, true);
+}
+
+#[test]
+#[ignore = "needs real meshes (DEMKIT_DATA)"]
+fn circle_conformal_lion_with_three_holes() {
+    let lion = load("open/chinese_lion.obj");
+    let mesh = cut_holes(&lion, &random_holes(&lion, 3, 1, 0.04), false);
+    circle_conformal_maps_or_refuses("chinese lion, 3 holes", &mesh, false);
+}
+
+#[test]
+#[ignore = "needs real meshes (DEMKIT_DATA)"]
+fn circle_conformal_amoeba2() {
+    let mesh = load("multiply-connected/amoeba2.obj");
+    circle_conformal_maps_or_refuses("amoeba2", &mesh, false);
 }

@@ -24,7 +24,7 @@ mod cut;
 use cut::{cut_holes, random_holes};
 #[path = "common/domains.rs"]
 mod domains;
-use domains::{planar_domain, spread_landmarks, square_spiral};
+use domains::{archimedean_spiral, planar_domain, spread_landmarks, square_spiral};
 
 fn load(rel: &str) -> TriMesh {
     let mesh = demkit::io::read_mesh(&data(rel)).unwrap();
@@ -494,4 +494,52 @@ fn square_spiral_with_flat_holes() {
     let pop = population(&mesh, "area");
     let (_, m) = run_deq("square spiral, flat holes", &mesh, &pop);
     assert!(m.face_density_var_final <= 0.25);
+}
+
+/// An Archimedean spiral of three and a half turns in a disk (28 966 faces): its harmonic
+/// embedding crushes the inner turns of the corridor below double precision. DEQ must either
+/// map it (converged, bijective) or refuse it: not converged, the reason in the notes, and a
+/// bijective stand-in (the domain laid flat in the unit disk), never an error.
+#[test]
+#[ignore = "part of the DEQ acceptance runs (release build)"]
+fn archimedean_spiral_is_mapped_or_refused_with_the_reason() {
+    let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let mesh = archimedean_spiral(80, 3.5, 0.3);
+    assert!(mesh.n_faces() > 28_000, "{} faces", mesh.n_faces());
+    let pop = population(&mesh, "area");
+    let t = Instant::now();
+    let r = deq::run(&mesh, &pop, &deq::Config::default(), &mut |_| {}).unwrap();
+    eprintln!(
+        "archimedean spiral: {:.2} s, converged {}, notes {:?}",
+        t.elapsed().as_secs_f64(),
+        r.converged,
+        r.notes
+    );
+    let mapped = r.refined.as_ref().map_or(&mesh, |s| &s.mesh);
+    let m = compute(
+        mapped,
+        &pop_of(&r, &pop),
+        &r.initial,
+        &r.positions,
+        Domain::Plane,
+        None,
+    );
+    assert_eq!(m.flipped_triangles, 0);
+    if r.refused {
+        assert!(!r.converged);
+        assert!(
+            r.notes.iter().any(|n| n.contains("could not compute")),
+            "{:?}",
+            r.notes
+        );
+    } else {
+        assert!(r.converged);
+    }
+}
+
+/// The population of the surface `r` maps: the refined one's when DEQ split chords.
+fn pop_of(r: &MapResult, pop: &[f64]) -> Vec<f64> {
+    r.refined
+        .as_ref()
+        .map_or_else(|| pop.to_vec(), |s| s.population.clone())
 }

@@ -101,3 +101,34 @@ pub fn spread_landmarks(
     }
     landmarks
 }
+
+/// An Archimedean spiral corridor in a disk: the disk of radius 0.98 about (1, 1) on a grid of
+/// `cells` squares per unit, less the faces within `wall / 2` of a pitch (a fraction of the
+/// distance between turns) of the spiral `r = bθ` of `turns` turns out to radius 0.9. The
+/// spiral's wall is one hole; the corridor between its turns is wound `turns` times.
+pub fn archimedean_spiral(cells: usize, turns: f64, wall: f64) -> TriMesh {
+    use std::f64::consts::{PI, TAU};
+    let theta_max = turns * TAU;
+    let b = 0.9 / theta_max;
+    let half = 0.5 * wall * TAU * b;
+    let samples = 4000;
+    let points: Vec<[f64; 2]> = (0..samples)
+        .map(|k| {
+            let t = PI + (theta_max - PI) * k as f64 / (samples - 1) as f64;
+            [1.0 + b * t * t.cos(), 1.0 + b * t * t.sin()]
+        })
+        .collect();
+    let to_wall = |p: [f64; 2]| {
+        points
+            .windows(2)
+            .map(|s| demkit::geometry::segment::segment_distance(p, s[0], s[1]).0)
+            .fold(f64::INFINITY, f64::min)
+    };
+    planar_domain(
+        2.0,
+        2.0,
+        cells,
+        |c| (c[0] - 1.0).hypot(c[1] - 1.0) < 0.98 && to_wall(c) > half,
+        &[],
+    )
+}

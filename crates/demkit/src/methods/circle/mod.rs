@@ -4,3 +4,4 @@
 pub mod circle_conformal;
 pub mod deq;
 pub mod ldeq;
+mod refusal;

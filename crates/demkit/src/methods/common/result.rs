@@ -71,6 +71,11 @@ pub struct MapResult {
     /// weighs the density against something else (DEQ: density misfit and distortion, (4.2));
     /// [`judge`](Self::judge) measures the run's progress on it instead of on the density.
     pub objective: Option<[f64; 2]>,
+    /// True when the method could not compute its map at all (a circle domain map that would
+    /// shrink part of the surface below double precision, a factorization that broke down):
+    /// `positions` is then the best stand-in it had, possibly not bijective, the run is not
+    /// converged (stop reason `max_iter`) and the first note says why.
+    pub refused: bool,
 }
 
 /// A refinement of the input a method mapped instead of the input itself.
@@ -111,6 +116,7 @@ impl MapResult {
             ellipsoid: None,
             refined: None,
             objective: None,
+            refused: false,
         }
     }
 

@@ -44,6 +44,7 @@ mod repair;
 mod rounding;
 mod untangle;
 
+use super::refusal::{PLANAR_STAND_IN, numerical, planar_stand_in, refused};
 use crate::mesh::topology::topology;
 use crate::methods::{MapResult, Progress, ProgressFn, StopReason};
 use crate::{Error, Result, TriMesh};
@@ -127,6 +128,16 @@ pub(crate) fn circle_input(
     crate::init::circle_domain::ordered_loops(mesh, &topo.boundary_loops)
 }
 
+/// DEQ's initial map of `mesh` (boundary loops `loops`, the outer one first): a bijective map
+/// onto a circle domain, not conformal ([`initial::initial_map`]).
+pub(crate) fn initial_circle_domain(
+    mesh: &TriMesh,
+    population: &[f64],
+    loops: &[Vec<u32>],
+) -> Result<Vec<[f64; 3]>> {
+    initial::initial_map(mesh, population, &Layout::new(mesh, loops))
+}
+
 /// The circle (centre, radius) fitted to the loop `lp` of the map `x`.
 pub(crate) fn fit_circle(x: &[[f64; 3]], lp: &[u32]) -> ([f64; 2], f64) {
     let c = circles::Circle::fit(x, lp);
@@ -185,21 +196,30 @@ pub(crate) fn circle_domain_map(
     request: &Request,
     progress: ProgressFn,
 ) -> Result<MapResult> {
-    let loops = request.loops;
+    with_chords_split(
+        mesh,
+        population,
+        request.loops,
+        |surface, surface_population| chordless_map(surface, surface_population, request, progress),
+    )
+}
+
+/// `map` (a circle domain map of a mesh and its population) run on `mesh` with the chords of
+/// its holes (`loops[1..]`, [`chords`]) split at their midpoints, or on `mesh` itself when
+/// there are none; a result of the refined mesh carries it, and a note says so.
+pub(crate) fn with_chords_split(
+    mesh: &TriMesh,
+    population: &[f64],
+    loops: &[Vec<u32>],
+    map: impl FnOnce(&TriMesh, &[f64]) -> Result<MapResult>,
+) -> Result<MapResult> {
     let chords = chords::of_holes(mesh.n_vertices(), &mesh.faces, loops);
-    let refined = (!chords.is_empty()).then(|| {
-        let refinement = crate::mesh::split::split_edges(mesh, &chords);
-        let population = refinement.population(population);
-        (refinement, population)
-    });
-    let (surface, surface_population) = match &refined {
-        Some((r, p)) => (&r.mesh, &p[..]),
-        None => (mesh, population),
-    };
-    let mut result = chordless_map(surface, surface_population, request, progress)?;
-    let Some((refinement, refined_population)) = refined else {
-        return Ok(result);
-    };
+    if chords.is_empty() {
+        return map(mesh, population);
+    }
+    let refinement = crate::mesh::split::split_edges(mesh, &chords);
+    let refined_population = refinement.population(population);
+    let mut result = map(&refinement.mesh, &refined_population)?;
     result.notes.insert(
         0,
         format!(
@@ -236,12 +256,25 @@ fn chordless_map(
     let t0 = Instant::now();
     let layout = Layout::new(mesh, loops);
     let holes: Vec<Vec<u32>> = layout.holes.iter().map(|h| h.boundary.clone()).collect();
-    let x = initial::initial_map(mesh, population, &layout)?;
+    let x = match numerical(initial::initial_map(mesh, population, &layout))? {
+        Ok(x) => x,
+        Err(why) => {
+            let x = planar_stand_in(mesh, &layout.outer);
+            return Ok(refused(method, x, &why, PLANAR_STAND_IN));
+        }
+    };
     let initial = x.clone();
     let time_init = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let pinned: Vec<u32> = landmarks.iter().map(|&(v, _)| v as u32).collect();
-    let mut map = equalize::equalize(mesh, population, &layout, x, &pinned, config, progress)?;
+    let equalized = equalize::equalize(mesh, population, &layout, x, &pinned, config, progress);
+    let mut map = match numerical(equalized)? {
+        Ok(map) => map,
+        Err(why) => {
+            let stand_in = "the initial map (bijective, its holes round, not equalized)";
+            return Ok(refused(method, initial, &why, stand_in));
+        }
+    };
     let mut notes = Vec::new();
     // The DEQ energy of the initial map and of the density-equalizing map, before landmarks
     // constrain it: what the run's progress is judged on.
@@ -281,6 +314,11 @@ fn chordless_map(
             max_iterations: LEG_ITERATIONS,
             ..Stage::configured(config)
         };
+        let deq_map = map.positions.clone();
+        let refuse = |why: String| {
+            let stand_in = "DEQ's map before the landmarks were moved (bijective, equalized)";
+            Ok(refused(method, deq_map.clone(), &why, stand_in))
+        };
         let x = &mut map.positions;
         let n = x.len();
         // Every leg's Newton iterations are numbered after the run's so far.
@@ -296,13 +334,21 @@ fn chordless_map(
             })?;
             done += out.history.len();
             Ok(out)
-        })?;
+        });
+        let legs = match numerical(legs)? {
+            Ok(legs) => legs,
+            Err(why) => return refuse(why),
+        };
         map.history.extend(&legs.history);
         let last = minimize(
             Stage::configured(config),
             x,
             &mut equalize::after(progress, map.history.len(), config.max_iter),
-        )?;
+        );
+        let last = match numerical(last)? {
+            Ok(last) => last,
+            Err(why) => return refuse(why),
+        };
         map.iterations += legs.iterations + last.iterations;
         map.history.extend(&last.history);
         map.converged = last.converged;
