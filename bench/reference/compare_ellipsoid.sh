@@ -68,7 +68,7 @@ fi
 [ -n "$work" ] || work=$(mktemp -d "${TMPDIR:-/tmp}/demkit-reference.XXXXXX")
 mkdir -p "$work"
 work=$(cd "$work" && pwd)
-code=$(code_dir "$edem_src" edem)/code
+code=$(code_dir "$edem_src" edem)
 
 E=$data/ellipsoidal; G=$data/genus0
 radii_file() { tr -s ' \n' '::' <"$1" | sed 's/:*$//'; }
@@ -93,10 +93,10 @@ setup() { # KIND NAME
   [ -f "$mesh" ] || die "no mesh $mesh"
 }
 report_radii() { # REPORT.json
-  octave-cli -q -f --eval "r = jsondecode(fileread('$1')); printf('%.17g:%.17g:%.17g', r.radii)"
+  octave-cli -q -f --eval "r = jsondecode(fileread('$1')); printf('%.17g:%.17g:%.17g', r.radii)" 2>/dev/null
 }
 report_field() { # REPORT.json EXPRESSION
-  octave-cli -q -f --eval "r = jsondecode(fileread('$1')); printf('%.17g', $2)"
+  octave-cli -q -f --eval "r = jsondecode(fileread('$1')); printf('%.17g', $2)" 2>/dev/null
 }
 metrics() { # MESH POP MAP RADII
   octave-cli -q -f "$here/octave/ellipsoid_metrics.m" "$1" "$2" "$3" "$4" 2>/dev/null \
