@@ -2,6 +2,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use demkit::generate::{peaks, square_grid};
+use demkit::methods::MethodConfig;
 use demkit::methods::dem;
 use demkit::population::{PopulationSpec, face_populations};
 
@@ -11,7 +12,7 @@ fn dem_runs(c: &mut Criterion) {
     let p = peaks(45).unwrap();
     let pop = face_populations(&PopulationSpec::Area, &p).unwrap();
     g.bench_function("peaks 4050 faces, area", |b| {
-        b.iter(|| dem::run(&p, &pop, &dem::Config::default(), &mut |_| {}).unwrap())
+        b.iter(|| dem::Config::default().run(&p, &pop, &mut |_| {}).unwrap())
     });
     let grid = square_grid(99, 99, 99.0, 99.0).unwrap();
     let pop = face_populations(
@@ -20,7 +21,11 @@ fn dem_runs(c: &mut Criterion) {
     )
     .unwrap();
     g.bench_function("grid 100x100, Table 4 Gaussian population", |b| {
-        b.iter(|| dem::run(&grid, &pop, &dem::Config::default(), &mut |_| {}).unwrap())
+        b.iter(|| {
+            dem::Config::default()
+                .run(&grid, &pop, &mut |_| {})
+                .unwrap()
+        })
     });
     g.finish();
 }

@@ -7,6 +7,7 @@
 //! them every case is skipped with a message. Run one case with, e.g.,
 //! `cargo bench -p demkit --bench real_meshes -- human_face`.
 
+use demkit::methods::MethodConfig;
 mod budget;
 
 use budget::cut::{cut_holes, random_holes};
@@ -73,7 +74,7 @@ fn dem_budgets(c: &mut Criterion) {
             (mesh, pop)
         };
         case(&mut g, rel, budget, setup, |(mesh, pop)| {
-            dem::run(mesh, pop, &dem::Config::default(), &mut |_| {}).unwrap()
+            dem::Config::default().run(mesh, pop, &mut |_| {}).unwrap()
         });
     }
     let shapes = [
@@ -99,7 +100,7 @@ fn dem_budgets(c: &mut Criterion) {
                 shape,
                 ..Default::default()
             };
-            dem_shape::run(mesh, pop, &config, &mut |_| {}).unwrap()
+            config.run(mesh, pop, &mut |_| {}).unwrap()
         });
     }
     g.finish();
@@ -132,7 +133,7 @@ fn sphere_budgets(c: &mut Criterion) {
             (mesh, pop)
         };
         case(&mut g, name, budget, setup, |(mesh, pop)| {
-            sdem::run(mesh, pop, &sdem::Config::default(), &mut |_| {}).unwrap()
+            sdem::Config::default().run(mesh, pop, &mut |_| {}).unwrap()
         });
     }
     for (name, budget) in [("sphere_with_landmark", 5.0), ("brain_with_landmark", 15.0)] {

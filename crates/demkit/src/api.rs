@@ -16,6 +16,7 @@
 
 use crate::geometry::ellipsoid::Ellipsoid;
 use crate::geometry::torus::{FlatTorusMap, Torus};
+use crate::methods::MethodConfig;
 use crate::methods::{
     MapResult, ProgressFn, circle_conformal, dem, dem_shape, deq, edem, edeq, ldeq, lsdem, sdem,
     spherical_conformal, tdem,
@@ -393,7 +394,7 @@ fn run_method(
             let mut c = dem::Config::default();
             common(&mut c.epsilon, &mut c.max_iter);
             c.dt = o.dt.or(c.dt);
-            dem::run(mesh, population, &c, progress)
+            c.run(mesh, population, progress)
         }
         Method::DemShape => {
             let mut c = dem_shape::Config {
@@ -402,13 +403,13 @@ fn run_method(
             };
             common(&mut c.epsilon, &mut c.max_iter);
             c.dt = o.dt.or(c.dt);
-            dem_shape::run(mesh, population, &c, progress)
+            c.run(mesh, population, progress)
         }
         Method::Sdem => {
             let mut c = sdem::Config::default();
             common(&mut c.epsilon, &mut c.max_iter);
             c.dt = o.dt.or(c.dt);
-            sdem::run(mesh, population, &c, progress)
+            c.run(mesh, population, progress)
         }
         Method::Edem => {
             let Some(ellipsoid) = o.ellipsoid else {
@@ -420,19 +421,19 @@ fn run_method(
                 ellipsoid,
                 ..Default::default()
             };
-            common(&mut c.epsilon, &mut c.max_iter);
-            c.dt = o.dt.or(c.dt);
-            edem::run(mesh, population, &c, progress)
+            common(&mut c.flow.epsilon, &mut c.flow.max_iter);
+            c.flow.dt = o.dt.or(c.flow.dt);
+            c.run(mesh, population, progress)
         }
         Method::Edeq => {
             let mut c = edeq::Config {
                 guess: o.ellipsoid,
                 ..Default::default()
             };
-            common(&mut c.epsilon, &mut c.max_iter);
-            c.dt = o.dt.or(c.dt);
+            common(&mut c.flow.epsilon, &mut c.flow.max_iter);
+            c.flow.dt = o.dt.or(c.flow.dt);
             c.alpha = o.alpha.unwrap_or(c.alpha);
-            edeq::run(mesh, population, &c, progress)
+            c.run(mesh, population, progress)
         }
         Method::Lsdem => {
             let mut c = lsdem::Config::default();
@@ -443,7 +444,7 @@ fn run_method(
             c.gamma = o.gamma.unwrap_or(c.gamma);
             lsdem::run(mesh, population, &o.landmarks, &c, progress)
         }
-        Method::Deq => deq::run(mesh, population, &deq_config(), progress),
+        Method::Deq => MethodConfig::run(&deq_config(), mesh, population, progress),
         Method::Ldeq => {
             let c = ldeq::Config { deq: deq_config() };
             ldeq::run(mesh, population, &o.landmarks, &c, progress)

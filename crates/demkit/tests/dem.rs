@@ -3,6 +3,7 @@
 
 use demkit::TriMesh;
 use demkit::generate::{gaussian, peaks, regular_polygon, square_grid};
+use demkit::methods::MethodConfig;
 use demkit::methods::{MapResult, StopReason, dem, dem_shape};
 use demkit::metrics::{Domain, Metrics, compute};
 use demkit::population::{PopulationSpec, face_populations};
@@ -10,7 +11,7 @@ use demkit::shape::Shape;
 
 fn run_dem(mesh: &TriMesh, population: &str) -> (MapResult, Metrics) {
     let pop = face_populations(&PopulationSpec::parse(population), mesh).unwrap();
-    let r = dem::run(mesh, &pop, &dem::Config::default(), &mut |_| {}).unwrap();
+    let r = dem::Config::default().run(mesh, &pop, &mut |_| {}).unwrap();
     let m = compute(mesh, &pop, &r.initial, &r.positions, Domain::Plane, None);
     (r, m)
 }
@@ -121,7 +122,7 @@ fn shape_prescribed_dem_keeps_the_boundary_on_the_shape() {
             shape,
             ..Default::default()
         };
-        let r = dem_shape::run(&p, &pop, &c, &mut |_| {}).unwrap();
+        let r = c.run(&p, &pop, &mut |_| {}).unwrap();
         let m = compute(&p, &pop, &r.initial, &r.positions, Domain::Plane, None);
         assert_eq!(m.flipped_triangles, 0, "{shape:?}");
         for &v in &boundary {
@@ -164,7 +165,9 @@ fn shape_prescribed_dem_keeps_the_boundary_on_the_shape() {
 fn closed_mesh_is_refused_with_a_topology_error() {
     let s = demkit::generate::icosphere(1).unwrap();
     let pop = vec![1.0; s.n_faces()];
-    let e = dem::run(&s, &pop, &dem::Config::default(), &mut |_| {}).unwrap_err();
+    let e = dem::Config::default()
+        .run(&s, &pop, &mut |_| {})
+        .unwrap_err();
     assert!(matches!(e, demkit::Error::Topology { .. }), "{e}");
     assert!(e.is_input_error());
 }
@@ -174,8 +177,12 @@ fn bad_population_is_refused() {
     let p = peaks(6).unwrap();
     let mut pop = vec![1.0; p.n_faces()];
     pop[3] = -1.0;
-    assert!(dem::run(&p, &pop, &dem::Config::default(), &mut |_| {}).is_err());
-    assert!(dem::run(&p, &pop[..5], &dem::Config::default(), &mut |_| {}).is_err());
+    assert!(dem::Config::default().run(&p, &pop, &mut |_| {}).is_err());
+    assert!(
+        dem::Config::default()
+            .run(&p, &pop[..5], &mut |_| {})
+            .is_err()
+    );
 }
 
 #[test]

@@ -12,6 +12,7 @@
 
 use demkit::TriMesh;
 use demkit::generate::{annulus, disk_with_holes, rectangle_with_holes};
+use demkit::methods::MethodConfig;
 use demkit::methods::{MapResult, dem, deq, ldeq};
 use demkit::metrics::{Domain, Metrics, compute};
 use demkit::population::{PopulationSpec, face_populations};
@@ -123,7 +124,7 @@ fn check(name: &str, input: &TriMesh, input_pop: &[f64], r: &MapResult, elapsed:
 fn run_deq(name: &str, mesh: &TriMesh, pop: &[f64]) -> (MapResult, Metrics) {
     let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let t0 = Instant::now();
-    let r = deq::run(mesh, pop, &deq::Config::default(), &mut |_| {}).unwrap();
+    let r = deq::Config::default().run(mesh, pop, &mut |_| {}).unwrap();
     let elapsed = t0.elapsed().as_secs_f64();
     let m = check(name, mesh, pop, &r, elapsed);
     assert!(
@@ -201,7 +202,9 @@ fn human_face_disk() {
     let pop = population(&mesh, "area");
     let (_, m) = run_deq(rel, &mesh, &pop);
     assert_bounds(rel, &m, 0.07, 0.30);
-    let d = dem::run(&mesh, &pop, &dem::Config::default(), &mut |_| {}).unwrap();
+    let d = dem::Config::default()
+        .run(&mesh, &pop, &mut |_| {})
+        .unwrap();
     let md = compute(&mesh, &pop, &d.initial, &d.positions, Domain::Plane, None);
     assert!(
         m.mean_abs_mu < md.mean_abs_mu,
@@ -407,7 +410,7 @@ fn human_brain_with_four_holes() {
 /// checks every landmark is met.
 fn ldeq_case(name: &str, mesh: &TriMesh, pop: &[f64], k: usize, distance: f64) {
     let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
-    let free = deq::run(mesh, pop, &deq::Config::default(), &mut |_| {}).unwrap();
+    let free = deq::Config::default().run(mesh, pop, &mut |_| {}).unwrap();
     let landmarks = spread_landmarks(mesh, &free.positions, k, distance);
     let t0 = Instant::now();
     let r = ldeq::run(mesh, pop, &landmarks, &ldeq::Config::default(), &mut |_| {}).unwrap();
@@ -508,7 +511,9 @@ fn archimedean_spiral_is_mapped_or_refused_with_the_reason() {
     assert!(mesh.n_faces() > 28_000, "{} faces", mesh.n_faces());
     let pop = population(&mesh, "area");
     let t = Instant::now();
-    let r = deq::run(&mesh, &pop, &deq::Config::default(), &mut |_| {}).unwrap();
+    let r = deq::Config::default()
+        .run(&mesh, &pop, &mut |_| {})
+        .unwrap();
     eprintln!(
         "archimedean spiral: {:.2} s, converged {}, notes {:?}",
         t.elapsed().as_secs_f64(),

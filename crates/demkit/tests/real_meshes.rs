@@ -5,6 +5,7 @@
 //! the final `density_error_mean` (the DEM issue's targets where it gives one); it prints the
 //! time, whose budget is a case of `benches/real_meshes.rs`.
 
+use demkit::methods::MethodConfig;
 use demkit::methods::{dem, dem_shape};
 use demkit::metrics::{Domain, compute, density_error, map_areas};
 use demkit::population::{PopulationSpec, face_populations};
@@ -26,13 +27,15 @@ fn check_method(rel: &str, shape: Option<Shape>, max_error: f64) {
     let pop = face_populations(&PopulationSpec::Area, &mesh).unwrap();
     let t = Instant::now();
     let r = match shape {
-        None => dem::run(&mesh, &pop, &dem::Config::default(), &mut |_| {}).unwrap(),
+        None => dem::Config::default()
+            .run(&mesh, &pop, &mut |_| {})
+            .unwrap(),
         Some(shape) => {
             let c = dem_shape::Config {
                 shape,
                 ..Default::default()
             };
-            dem_shape::run(&mesh, &pop, &c, &mut |_| {}).unwrap()
+            c.run(&mesh, &pop, &mut |_| {}).unwrap()
         }
     };
     let elapsed = t.elapsed().as_secs_f64();

@@ -15,6 +15,7 @@ use demkit::apps::remesh::{Target, remesh};
 use demkit::geometry::face_areas;
 use demkit::geometry::torus::Torus;
 use demkit::mesh::topology::topology;
+use demkit::methods::MethodConfig;
 use demkit::methods::{dem, deq, sdem, tdem};
 use demkit::population::{PopulationSpec, face_populations};
 
@@ -42,16 +43,16 @@ fn remeshed(rel: &str, map: Map, population: &str, n: usize) -> (TriMesh, TriMes
         _ => None,
     };
     let r = match map {
-        Map::Dem => dem::run(&mesh, &pop, &dem::Config::default(), quiet),
+        Map::Dem => dem::Config::default().run(&mesh, &pop, quiet),
         // Remeshing maps with DEQ's density-first α, as `demkit remesh` does.
         Map::Deq => {
             let c = deq::Config {
                 alpha: demkit::apps::remesh::DEQ_ALPHA,
                 ..Default::default()
             };
-            deq::run(&mesh, &pop, &c, quiet)
+            c.run(&mesh, &pop, quiet)
         }
-        Map::Sdem => sdem::run(&mesh, &pop, &sdem::Config::default(), quiet),
+        Map::Sdem => sdem::Config::default().run(&mesh, &pop, quiet),
         Map::Tdem(..) => {
             let t = torus.as_ref().unwrap();
             tdem::run(&mesh, &pop, t, &tdem::Config::default(), quiet)

@@ -10,6 +10,7 @@
 
 use demkit::TriMesh;
 use demkit::io::read_landmarks;
+use demkit::methods::MethodConfig;
 use demkit::methods::{MapResult, lsdem, sdem};
 use demkit::metrics::{Domain, Metrics, compute};
 use demkit::population::{PopulationSpec, face_populations};
@@ -59,7 +60,9 @@ fn sdem_check(name: &str, population_file: bool) -> Metrics {
     let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let (mesh, pop) = load(name, population_file);
     let t = Instant::now();
-    let r = sdem::run(&mesh, &pop, &sdem::Config::default(), &mut |_| {}).unwrap();
+    let r = sdem::Config::default()
+        .run(&mesh, &pop, &mut |_| {})
+        .unwrap();
     let elapsed = t.elapsed().as_secs_f64();
     let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Sphere, None);
     report(name, &r, &m, elapsed);

@@ -2,6 +2,7 @@
 //! its measured time, where the real meshes are, and the meshes the DEQ cases are built from.
 
 #![allow(dead_code)]
+use demkit::methods::MethodConfig;
 
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, Criterion, SamplingMode};
@@ -80,7 +81,7 @@ pub fn population(mesh: &TriMesh, spec: &str) -> Vec<f64> {
 
 /// DEQ with its defaults, as the DEQ tests run it.
 pub fn run_deq(mesh: &TriMesh, pop: &[f64]) -> demkit::methods::MapResult {
-    deq::run(mesh, pop, &deq::Config::default(), &mut |_| {}).unwrap()
+    deq::Config::default().run(mesh, pop, &mut |_| {}).unwrap()
 }
 
 /// The landmarks of the LDEQ tests: `k` interior vertices away from the loops and from each

@@ -57,7 +57,7 @@ pub fn run_for_topology(
             ldeq::run(mesh, population, landmarks.unwrap_or(&[]), &c, &mut quiet)
         }
         (1, 0, 1) => match variant % 4 {
-            0 => dem::run(mesh, population, &dem_config, &mut quiet),
+            0 => dem_config.run(mesh, population, &mut quiet),
             1 => {
                 let shape = match variant / 4 % 3 {
                     0 => demkit::shape::Shape::Disk,
@@ -72,13 +72,13 @@ pub fn run_for_topology(
                     max_iter: MAX_ITER,
                     ..Default::default()
                 };
-                dem_shape::run(mesh, population, &c, &mut quiet)
+                c.run(mesh, population, &mut quiet)
             }
             2 => circle_conformal::run(mesh, population),
-            _ => deq::run(mesh, population, &deq_config, &mut quiet),
+            _ => deq_config.run(mesh, population, &mut quiet),
         },
         (1, 0, 2..) => match variant % 2 {
-            0 => deq::run(mesh, population, &deq_config, &mut quiet),
+            0 => deq_config.run(mesh, population, &mut quiet),
             _ => circle_conformal::run(mesh, population),
         },
         (1, 0, 0) => match (landmarks, variant % 2) {
@@ -94,7 +94,7 @@ pub fn run_for_topology(
                     max_iter: MAX_ITER,
                     ..Default::default()
                 };
-                sdem::run(mesh, population, &c, &mut quiet)
+                c.run(mesh, population, &mut quiet)
             }
             (None, _) => spherical_conformal::run(mesh, population),
         },
@@ -106,7 +106,7 @@ pub fn run_for_topology(
             };
             tdem::run(mesh, population, &torus, &c, &mut quiet)
         }
-        _ => dem::run(mesh, population, &dem_config, &mut quiet),
+        _ => dem_config.run(mesh, population, &mut quiet),
     }
 }
 
@@ -127,37 +127,37 @@ pub fn run_every_method(
     vec![
         (
             "dem",
-            dem::run(
-                mesh,
-                population,
+            demkit::methods::MethodConfig::run(
                 &dem::Config {
                     max_iter: MAX_ITER,
                     ..Default::default()
                 },
+                mesh,
+                population,
                 &mut quiet,
             ),
         ),
         (
             "dem-shape",
-            dem_shape::run(
-                mesh,
-                population,
+            demkit::methods::MethodConfig::run(
                 &dem_shape::Config {
                     max_iter: MAX_ITER,
                     ..Default::default()
                 },
+                mesh,
+                population,
                 &mut quiet,
             ),
         ),
         (
             "sdem",
-            sdem::run(
-                mesh,
-                population,
+            demkit::methods::MethodConfig::run(
                 &sdem::Config {
                     max_iter: MAX_ITER,
                     ..Default::default()
                 },
+                mesh,
+                population,
                 &mut quiet,
             ),
         ),
@@ -174,7 +174,7 @@ pub fn run_every_method(
                 &mut quiet,
             ),
         ),
-        ("deq", deq::run(mesh, population, &deq_config, &mut quiet)),
+        ("deq", deq_config.run(mesh, population, &mut quiet)),
         (
             "ldeq",
             ldeq::run(

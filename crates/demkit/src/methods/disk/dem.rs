@@ -13,6 +13,7 @@ use crate::geometry::{face_areas, planar_frame, signed_areas_2d};
 use crate::init::boundary_flattening::curvature_flatten_boundary;
 use crate::init::sea::build_sea_with_radius;
 use crate::init::tutte::{InteriorWeights, flatten_with_fallback};
+use crate::methods::MethodConfig;
 use crate::methods::{MapResult, ProgressFn};
 use crate::{Error, Result, TriMesh};
 use std::time::Instant;
@@ -52,105 +53,103 @@ impl Default for Config {
     }
 }
 
-/// Computes the DEM of `mesh` (a topological disk) with one `population` value per face.
-pub fn run(
-    mesh: &TriMesh,
-    population: &[f64],
-    config: &Config,
-    progress: ProgressFn,
-) -> Result<MapResult> {
-    check_config(config)?;
-    let t0 = Instant::now();
-    let boundary = disk_boundary(mesh, population, "dem")?;
-    let faces = &mesh.faces;
-    let mut notes = Vec::new();
+impl MethodConfig for Config {
+    /// Computes the DEM of `mesh` (a topological disk) with one `population` value per face.
+    fn run(&self, mesh: &TriMesh, population: &[f64], progress: ProgressFn) -> Result<MapResult> {
+        let config = self;
+        check_config(config)?;
+        let t0 = Instant::now();
+        let boundary = disk_boundary(mesh, population, "dem")?;
+        let faces = &mesh.faces;
+        let mut notes = Vec::new();
 
-    // Alg. 5 lines 1–4: the initial flattening.
-    let initial: Vec<[f64; 3]> = match planar_frame(&mesh.positions, faces, 1e-9) {
-        Some(frame) => mesh.positions.iter().map(|&p| frame.project(p)).collect(),
-        None => {
-            let bp = curvature_flatten_boundary(&mesh.positions, &boundary);
-            let (map, used) =
-                flatten_with_fallback(&mesh.positions, faces, &boundary, &bp, config.initial)?;
-            if used != config.initial {
-                notes.push(
-                    "the locally authalic initial map overlapped; used Tutte's map instead"
-                        .to_string(),
-                );
+        // Alg. 5 lines 1–4: the initial flattening.
+        let initial: Vec<[f64; 3]> = match planar_frame(&mesh.positions, faces, 1e-9) {
+            Some(frame) => mesh.positions.iter().map(|&p| frame.project(p)).collect(),
+            None => {
+                let bp = curvature_flatten_boundary(&mesh.positions, &boundary);
+                let (map, used) =
+                    flatten_with_fallback(&mesh.positions, faces, &boundary, &bp, config.initial)?;
+                if used != config.initial {
+                    notes.push(
+                        "the locally authalic initial map overlapped; used Tutte's map instead"
+                            .to_string(),
+                    );
+                }
+                map
             }
-            map
+        };
+        if signed_areas_2d(&initial, faces).iter().any(|&a| !(a > 0.0)) {
+            return Err(Error::Numerical(
+                "the initial flattening has flipped triangles".into(),
+            ));
         }
-    };
-    if signed_areas_2d(&initial, faces).iter().any(|&a| !(a > 0.0)) {
-        return Err(Error::Numerical(
-            "the initial flattening has flipped triangles".into(),
-        ));
+
+        // Normalise: area centroid at the origin, total area 1 (scale-free iteration).
+        let a0 = face_areas(&initial, faces);
+        let area0: f64 = a0.iter().sum();
+        let centroid = area_centroid(&initial, faces, &a0);
+        let s = 1.0 / area0.sqrt();
+        let roi: Vec<[f64; 2]> = initial
+            .iter()
+            .map(|p| [(p[0] - centroid[0]) * s, (p[1] - centroid[1]) * s])
+            .collect();
+
+        // Alg. 4: the sea.
+        let sea = build_sea_with_radius(&roi, faces, &boundary, config.eta, config.roi_radius)?;
+        let r: Vec<[f64; 3]> = sea.positions.iter().map(|p| [p[0], p[1], 0.0]).collect();
+        let areas = face_areas(&r, &sea.faces);
+        let total_pop: f64 = population.iter().sum();
+        let roi_area: f64 = areas[..sea.n_roi_faces].iter().sum();
+        let mean_density = total_pop / roi_area;
+        let mut ext_pop = population.to_vec();
+        ext_pop.extend(areas[sea.n_roi_faces..].iter().map(|a| mean_density * a));
+
+        let time_init = t0.elapsed().as_secs_f64();
+
+        let t1 = Instant::now();
+        let problem = Problem {
+            faces: &sea.faces,
+            population: ext_pop,
+            n_roi_vertices: sea.n_roi_vertices,
+            n_roi_faces: sea.n_roi_faces,
+            constraint: &super::planar_diffusion::Free,
+            dt: config.dt,
+            epsilon: config.epsilon,
+            max_iter: config.max_iter,
+            patience: config.patience,
+        };
+        let out = planar_diffusion::run(&problem, r, progress)?;
+
+        // Alg. 5 line 18: drop the sea, rescale to the input's total area, keep the initial centroid.
+        let result: Vec<[f64; 3]> = out.positions[..sea.n_roi_vertices].to_vec();
+        let a1 = face_areas(&result, faces);
+        let c1 = area_centroid(&result, faces, &a1);
+        let target_area: f64 = face_areas(&mesh.positions, faces).iter().sum();
+        let k = (target_area / a1.iter().sum::<f64>()).sqrt();
+        let positions = result
+            .iter()
+            .map(|p| {
+                [
+                    centroid[0] + (p[0] - c1[0]) * k,
+                    centroid[1] + (p[1] - c1[1]) * k,
+                    0.0,
+                ]
+            })
+            .collect();
+        let mut result = MapResult::new(
+            "dem",
+            positions,
+            initial,
+            out.stop_reason,
+            out.iterations,
+            out.history,
+        );
+        result.time_init = time_init;
+        result.time_map = t1.elapsed().as_secs_f64();
+        result.notes = notes;
+        Ok(result)
     }
-
-    // Normalise: area centroid at the origin, total area 1 (scale-free iteration).
-    let a0 = face_areas(&initial, faces);
-    let area0: f64 = a0.iter().sum();
-    let centroid = area_centroid(&initial, faces, &a0);
-    let s = 1.0 / area0.sqrt();
-    let roi: Vec<[f64; 2]> = initial
-        .iter()
-        .map(|p| [(p[0] - centroid[0]) * s, (p[1] - centroid[1]) * s])
-        .collect();
-
-    // Alg. 4: the sea.
-    let sea = build_sea_with_radius(&roi, faces, &boundary, config.eta, config.roi_radius)?;
-    let r: Vec<[f64; 3]> = sea.positions.iter().map(|p| [p[0], p[1], 0.0]).collect();
-    let areas = face_areas(&r, &sea.faces);
-    let total_pop: f64 = population.iter().sum();
-    let roi_area: f64 = areas[..sea.n_roi_faces].iter().sum();
-    let mean_density = total_pop / roi_area;
-    let mut ext_pop = population.to_vec();
-    ext_pop.extend(areas[sea.n_roi_faces..].iter().map(|a| mean_density * a));
-
-    let time_init = t0.elapsed().as_secs_f64();
-
-    let t1 = Instant::now();
-    let problem = Problem {
-        faces: &sea.faces,
-        population: ext_pop,
-        n_roi_vertices: sea.n_roi_vertices,
-        n_roi_faces: sea.n_roi_faces,
-        constraint: &super::planar_diffusion::Free,
-        dt: config.dt,
-        epsilon: config.epsilon,
-        max_iter: config.max_iter,
-        patience: config.patience,
-    };
-    let out = planar_diffusion::run(&problem, r, progress)?;
-
-    // Alg. 5 line 18: drop the sea, rescale to the input's total area, keep the initial centroid.
-    let result: Vec<[f64; 3]> = out.positions[..sea.n_roi_vertices].to_vec();
-    let a1 = face_areas(&result, faces);
-    let c1 = area_centroid(&result, faces, &a1);
-    let target_area: f64 = face_areas(&mesh.positions, faces).iter().sum();
-    let k = (target_area / a1.iter().sum::<f64>()).sqrt();
-    let positions = result
-        .iter()
-        .map(|p| {
-            [
-                centroid[0] + (p[0] - c1[0]) * k,
-                centroid[1] + (p[1] - c1[1]) * k,
-                0.0,
-            ]
-        })
-        .collect();
-    let mut result = MapResult::new(
-        "dem",
-        positions,
-        initial,
-        out.stop_reason,
-        out.iterations,
-        out.history,
-    );
-    result.time_init = time_init;
-    result.time_map = t1.elapsed().as_secs_f64();
-    result.notes = notes;
-    Ok(result)
 }
 
 fn check_config(c: &Config) -> Result<()> {

@@ -9,6 +9,7 @@ use super::planar_diffusion::{self, Problem};
 use crate::geometry::signed_areas_2d;
 use crate::geometry::{norm, sub};
 use crate::init::tutte::{InteriorWeights, fixed_boundary_map};
+use crate::methods::MethodConfig;
 use crate::methods::iteration::check_parameters;
 use crate::methods::{MapResult, ProgressFn};
 use crate::shape::Shape;
@@ -43,69 +44,67 @@ impl Default for Config {
     }
 }
 
-/// Computes the shape-prescribed DEM of `mesh` (a topological disk).
-pub fn run(
-    mesh: &TriMesh,
-    population: &[f64],
-    config: &Config,
-    progress: ProgressFn,
-) -> Result<MapResult> {
-    check_parameters(config.epsilon, config.dt, config.max_iter)?;
-    let t0 = Instant::now();
-    let boundary = disk_boundary(mesh, population, "dem-shape")?;
-    let faces = &mesh.faces;
-    let lengths: Vec<f64> = (0..boundary.len())
-        .map(|k| {
-            let a = mesh.positions[boundary[k] as usize];
-            let b = mesh.positions[boundary[(k + 1) % boundary.len()] as usize];
-            norm(sub(b, a))
-        })
-        .collect();
-    let bp = shape_boundary(mesh, &boundary, &lengths, config.shape)?;
-    let initial = fixed_boundary_map(
-        &mesh.positions,
-        faces,
-        &boundary,
-        &bp,
-        InteriorWeights::Tutte,
-    )?;
-    if let Some(f) = signed_areas_2d(&initial, faces)
-        .iter()
-        .position(|&a| !(a > 0.0))
-    {
-        return Err(Error::Numerical(format!(
-            "the initial map onto the shape is degenerate at face {f}; try the shape disk or ellipse"
-        )));
+impl MethodConfig for Config {
+    /// Computes the shape-prescribed DEM of `mesh` (a topological disk).
+    fn run(&self, mesh: &TriMesh, population: &[f64], progress: ProgressFn) -> Result<MapResult> {
+        let config = self;
+        check_parameters(config.epsilon, config.dt, config.max_iter)?;
+        let t0 = Instant::now();
+        let boundary = disk_boundary(mesh, population, "dem-shape")?;
+        let faces = &mesh.faces;
+        let lengths: Vec<f64> = (0..boundary.len())
+            .map(|k| {
+                let a = mesh.positions[boundary[k] as usize];
+                let b = mesh.positions[boundary[(k + 1) % boundary.len()] as usize];
+                norm(sub(b, a))
+            })
+            .collect();
+        let bp = shape_boundary(mesh, &boundary, &lengths, config.shape)?;
+        let initial = fixed_boundary_map(
+            &mesh.positions,
+            faces,
+            &boundary,
+            &bp,
+            InteriorWeights::Tutte,
+        )?;
+        if let Some(f) = signed_areas_2d(&initial, faces)
+            .iter()
+            .position(|&a| !(a > 0.0))
+        {
+            return Err(Error::Numerical(format!(
+                "the initial map onto the shape is degenerate at face {f}; try the shape disk or ellipse"
+            )));
+        }
+        let time_init = t0.elapsed().as_secs_f64();
+        let t1 = Instant::now();
+        let constraint = planar_diffusion::OnShape {
+            boundary,
+            shape: config.shape,
+        };
+        let problem = Problem {
+            faces,
+            population: population.to_vec(),
+            n_roi_vertices: mesh.n_vertices(),
+            n_roi_faces: mesh.n_faces(),
+            constraint: &constraint,
+            dt: config.dt,
+            epsilon: config.epsilon,
+            max_iter: config.max_iter,
+            patience: config.patience,
+        };
+        let out = planar_diffusion::run(&problem, initial.clone(), progress)?;
+        let mut result = MapResult::new(
+            "dem-shape",
+            out.positions,
+            initial,
+            out.stop_reason,
+            out.iterations,
+            out.history,
+        );
+        result.time_init = time_init;
+        result.time_map = t1.elapsed().as_secs_f64();
+        Ok(result)
     }
-    let time_init = t0.elapsed().as_secs_f64();
-    let t1 = Instant::now();
-    let constraint = planar_diffusion::OnShape {
-        boundary,
-        shape: config.shape,
-    };
-    let problem = Problem {
-        faces,
-        population: population.to_vec(),
-        n_roi_vertices: mesh.n_vertices(),
-        n_roi_faces: mesh.n_faces(),
-        constraint: &constraint,
-        dt: config.dt,
-        epsilon: config.epsilon,
-        max_iter: config.max_iter,
-        patience: config.patience,
-    };
-    let out = planar_diffusion::run(&problem, initial.clone(), progress)?;
-    let mut result = MapResult::new(
-        "dem-shape",
-        out.positions,
-        initial,
-        out.stop_reason,
-        out.iterations,
-        out.history,
-    );
-    result.time_init = time_init;
-    result.time_map = t1.elapsed().as_secs_f64();
-    Ok(result)
 }
 
 /// The corners of a shape with straight sides, counter-clockwise, starting after the positive

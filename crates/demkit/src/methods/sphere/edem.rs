@@ -17,15 +17,14 @@
 //! Any radii work: the map is computed on the ellipsoid scaled by a power of two
 //! ([`Ellipsoid::normalizing_exponent`]) and scaled back exactly.
 
-use super::input::check_sphere_input;
+use super::input::SphereInput;
 use super::sdem::{self, Target, equalize};
 use crate::geometry::ellipsoid::Ellipsoid;
 use crate::geometry::sphere::spherical_flipped;
 use crate::geometry::{norm, sub};
 use crate::init::ellipsoidal_conformal::ellipsoidal_conformal_map_in_order;
 use crate::linalg::VertexOrder;
-use crate::mesh::Locality;
-use crate::methods::iteration::check_parameters;
+use crate::methods::MethodConfig;
 use crate::methods::{MapResult, ProgressFn};
 use crate::{Error, Result, TriMesh};
 use rayon::prelude::*;
@@ -36,22 +35,23 @@ use std::time::Instant;
 pub struct Config {
     /// The target ellipsoid.
     pub ellipsoid: Ellipsoid,
-    /// Stop when sd/mean of the recoupled vertex density is below ε (paper: 1e-3).
-    pub epsilon: f64,
-    /// Iteration limit (paper: 300).
-    pub max_iter: usize,
-    /// A fixed time step δt (the paper uses 0.1); `None` adapts it (as SDEM's, see
-    /// [`super::sdem`]).
-    pub dt: Option<f64>,
+    /// The density flow's stop, iteration limit and time step, as SDEM's (the ellipsoidal
+    /// paper's limit is 300 iterations, [`FLOW`]).
+    pub flow: sdem::Config,
 }
+
+/// The ellipsoidal paper's flow: ε = 1e-3, at most 300 iterations, the adaptive step.
+pub const FLOW: sdem::Config = sdem::Config {
+    epsilon: 1e-3,
+    max_iter: 300,
+    dt: None,
+};
 
 impl Default for Config {
     fn default() -> Self {
         Self {
             ellipsoid: Ellipsoid::UNIT_SPHERE,
-            epsilon: 1e-3,
-            max_iter: 300,
-            dt: None,
+            flow: FLOW,
         }
     }
 }
@@ -62,64 +62,53 @@ impl Default for Config {
 /// sampled on the ellipsoid with its vertices slightly off).
 const ON_ELLIPSOID: f64 = 0.1;
 
-/// Computes the EDEM of `mesh` (a genus-0 closed surface) with one `population` value per face
-/// onto `config.ellipsoid`. The result lies on the ellipsoid, in input vertex order, and
-/// carries the ellipsoid ([`MapResult::ellipsoid`]).
-pub fn run(
-    mesh: &TriMesh,
-    population: &[f64],
-    config: &Config,
-    progress: ProgressFn,
-) -> Result<MapResult> {
-    check_parameters(config.epsilon, config.dt, config.max_iter)?;
-    check_sphere_input(mesh, population, "edem")?;
-    let t0 = Instant::now();
-    let mut notes = Vec::new();
-    let k = config.ellipsoid.normalizing_exponent();
-    let domain = config.ellipsoid.scaled_by_power_of_two(k);
-    let local = Locality::breadth_first(mesh.n_vertices(), &mesh.faces);
-    let (mesh, population) = (&local.mesh(mesh), &local.faces(population));
-    let order = VertexOrder::of_mesh(mesh.n_vertices(), &mesh.faces)?;
-    let initial = initial_map(
-        mesh,
-        population,
-        &config.ellipsoid,
-        &domain,
-        &order,
-        &mut notes,
-    )?;
-    let time_init = t0.elapsed().as_secs_f64();
-    let on = Target {
-        domain,
-        method: "edem",
-        match_areas: true,
-    };
-    let sdem_config = sdem::Config {
-        epsilon: config.epsilon,
-        max_iter: config.max_iter,
-        dt: config.dt,
-    };
-    let mut result = equalize(
-        on,
-        mesh,
-        population,
-        initial,
-        Some(&order),
-        &sdem_config,
-        progress,
-    )?;
-    let unscale = |x: &[[f64; 3]]| -> Vec<[f64; 3]> {
-        let mut x = local.restore_vertices(x);
-        crate::mesh::scale::scale_positions(&mut x, -k);
-        x
-    };
-    result.positions = unscale(&result.positions);
-    result.initial = unscale(&result.initial);
-    result.ellipsoid = Some(config.ellipsoid);
-    result.time_init = time_init;
-    notes.append(&mut result.notes);
-    result.notes = notes;
-    Ok(result)
+impl MethodConfig for Config {
+    /// Computes the EDEM of `mesh` (a genus-0 closed surface) with one `population` value per face
+    /// onto `self.ellipsoid`. The result lies on the ellipsoid, in input vertex order, and
+    /// carries the ellipsoid ([`MapResult::ellipsoid`]).
+    fn run(&self, mesh: &TriMesh, population: &[f64], progress: ProgressFn) -> Result<MapResult> {
+        let t0 = Instant::now();
+        let input = SphereInput::new(mesh, population, &self.flow, "edem")?;
+        let (local, mesh, population, order) = input.parts();
+        let mut notes = Vec::new();
+        let k = self.ellipsoid.normalizing_exponent();
+        let domain = self.ellipsoid.scaled_by_power_of_two(k);
+        let initial = initial_map(
+            mesh,
+            population,
+            &self.ellipsoid,
+            &domain,
+            order,
+            &mut notes,
+        )?;
+        let time_init = t0.elapsed().as_secs_f64();
+        let on = Target {
+            domain,
+            method: "edem",
+            match_areas: true,
+        };
+        let mut result = equalize(
+            on,
+            mesh,
+            population,
+            initial,
+            Some(order),
+            &self.flow,
+            progress,
+        )?;
+        let unscale = |x: &[[f64; 3]]| -> Vec<[f64; 3]> {
+            let mut x = local.restore_vertices(x);
+            crate::mesh::scale::scale_positions(&mut x, -k);
+            x
+        };
+        result.positions = unscale(&result.positions);
+        result.initial = unscale(&result.initial);
+        result.ellipsoid = Some(self.ellipsoid);
+        result.time_init = time_init;
+        notes.append(&mut result.notes);
+        result.notes = notes;
+        Ok(result)
+    }
 }
 
 /// The initial map of EDEM and EDEQ onto `domain` (the computation's copy of `ellipsoid`, scaled
@@ -234,7 +223,7 @@ mod tests {
             ellipsoid: e,
             ..Config::default()
         };
-        let r = run(&mesh, &pop, &config, &mut |_| {}).unwrap();
+        let r = config.run(&mesh, &pop, &mut |_| {}).unwrap();
         assert_eq!(r.iterations, 0);
         assert!(
             r.notes.iter().any(|n| n.contains("its own initial map")),
@@ -259,7 +248,7 @@ mod tests {
             ellipsoid: e,
             ..Config::default()
         };
-        let r = run(&mesh, &pop, &config, &mut |_| {}).unwrap();
+        let r = config.run(&mesh, &pop, &mut |_| {}).unwrap();
         assert!(
             r.notes.iter().any(|n| n.contains("mirror")),
             "{:?}",
@@ -288,7 +277,7 @@ mod tests {
                 ellipsoid: e,
                 ..Config::default()
             };
-            let r = run(&mesh, &pop, &config, &mut |_| {}).unwrap();
+            let r = config.run(&mesh, &pop, &mut |_| {}).unwrap();
             let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Sphere, None);
             assert!(r.converged, "{radii:?}: {:?}", r.notes);
             assert_eq!(m.flipped_triangles, 0, "{radii:?}");
@@ -314,7 +303,7 @@ mod tests {
                 ellipsoid: e,
                 ..Config::default()
             };
-            run(&mesh, &pop, &config, &mut |_| {}).unwrap()
+            config.run(&mesh, &pop, &mut |_| {}).unwrap()
         };
         let (a, b) = (run_on(small), run_on(huge));
         assert_eq!(a.iterations, b.iterations);
@@ -328,7 +317,7 @@ mod tests {
     fn a_disk_is_refused() {
         let disk = crate::generate::regular_polygon(12, 3).unwrap();
         let pop = face_areas(&disk.positions, &disk.faces);
-        let e = run(&disk, &pop, &Config::default(), &mut |_| {}).unwrap_err();
+        let e = Config::default().run(&disk, &pop, &mut |_| {}).unwrap_err();
         assert!(matches!(e, Error::Topology { .. }), "{e}");
     }
 }

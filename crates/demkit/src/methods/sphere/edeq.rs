@@ -23,13 +23,12 @@
 //! lowers the energy; the map of lowest energy is returned, equalized on its radii.
 
 use super::density::SphereDiffusion;
-use super::input::check_sphere_input;
+use super::input::SphereInput;
 use super::sdem::{self, Target, equalize};
 use crate::geometry::ellipsoid::Ellipsoid;
 use crate::geometry::{cross, dot};
 use crate::linalg::VertexOrder;
-use crate::mesh::Locality;
-use crate::methods::iteration::check_parameters;
+use crate::methods::MethodConfig;
 use crate::methods::{MapResult, Progress, ProgressFn, StopReason};
 use crate::qc::beltrami_coefficient_surfaces;
 use crate::{Error, Result, TriMesh};
@@ -44,12 +43,8 @@ pub struct Config {
     pub guess: Option<Ellipsoid>,
     /// The weight α of the distortion against the density in the energy (paper: 5).
     pub alpha: f64,
-    /// The density flow's stop: sd/mean of the recoupled vertex density below ε (1e-3).
-    pub epsilon: f64,
-    /// The limit on each flow's iterations (paper: 300).
-    pub max_iter: usize,
-    /// A fixed time step of the flow; `None` adapts it (as SDEM's).
-    pub dt: Option<f64>,
+    /// Each flow's stop, iteration limit and time step, as EDEM's ([`super::edem::FLOW`]).
+    pub flow: sdem::Config,
     /// The most maps computed (each a flow on one set of radii; module docs).
     pub rounds: usize,
 }
@@ -59,9 +54,7 @@ impl Default for Config {
         Self {
             guess: None,
             alpha: 5.0,
-            epsilon: 1e-3,
-            max_iter: 300,
-            dt: None,
+            flow: super::edem::FLOW,
             rounds: 20,
         }
     }
@@ -76,162 +69,152 @@ const ENERGY_DT: f64 = 0.1;
 /// Nelder–Mead steps per radii search.
 const SEARCH_STEPS: usize = 80;
 
-/// Computes the EDEQ of `mesh` (a genus-0 closed surface) with one `population` value per face.
-/// The result lies on the ellipsoid it chose ([`MapResult::ellipsoid`]), in input vertex order.
-pub fn run(
-    mesh: &TriMesh,
-    population: &[f64],
-    config: &Config,
-    progress: ProgressFn,
-) -> Result<MapResult> {
-    check_parameters(config.epsilon, config.dt, config.max_iter)?;
-    check_sphere_input(mesh, population, "edeq")?;
-    if !(config.alpha.is_finite() && config.alpha >= 0.0) {
-        return Err(Error::Argument(format!(
-            "edeq's alpha must be a finite number ≥ 0, got {}",
-            config.alpha
-        )));
-    }
-    let t0 = Instant::now();
-    let guess = match config.guess {
-        Some(g) => g,
-        None => guess_from_extents(mesh)?,
-    };
-    let k = guess.normalizing_exponent();
-    let domain = guess.scaled_by_power_of_two(k);
-    let local = Locality::breadth_first(mesh.n_vertices(), &mesh.faces);
-    let (mesh, population) = (&local.mesh(mesh), &local.faces(population));
-    let order = VertexOrder::of_mesh(mesh.n_vertices(), &mesh.faces)?;
-    let mut notes = Vec::new();
-    let initial = super::edem::initial_map(mesh, population, &guess, &domain, &order, &mut notes)?;
-    let time_init = t0.elapsed().as_secs_f64();
-    let energy = Energy::new(mesh, population, &order, config.alpha)?;
-    let e_initial = energy.of(&initial)?.total(config.alpha);
-    let flow_config = sdem::Config {
-        epsilon: config.epsilon,
-        max_iter: config.max_iter,
-        dt: config.dt,
-    };
+impl MethodConfig for Config {
+    /// Computes the EDEQ of `mesh` (a genus-0 closed surface) with one `population` value per face.
+    /// The result lies on the ellipsoid it chose ([`MapResult::ellipsoid`]), in input vertex order.
+    fn run(&self, mesh: &TriMesh, population: &[f64], progress: ProgressFn) -> Result<MapResult> {
+        let t0 = Instant::now();
+        let input = SphereInput::new(mesh, population, &self.flow, "edeq")?;
+        if !(self.alpha.is_finite() && self.alpha >= 0.0) {
+            return Err(Error::Argument(format!(
+                "edeq's alpha must be a finite number ≥ 0, got {}",
+                self.alpha
+            )));
+        }
+        let guess = match self.guess {
+            Some(g) => g,
+            None => guess_from_extents(mesh)?,
+        };
+        let k = guess.normalizing_exponent();
+        let domain = guess.scaled_by_power_of_two(k);
+        let (local, mesh, population, order) = input.parts();
+        let mut notes = Vec::new();
+        let initial =
+            super::edem::initial_map(mesh, population, &guess, &domain, order, &mut notes)?;
+        let time_init = t0.elapsed().as_secs_f64();
+        let energy = Energy::new(mesh, population, order, self.alpha)?;
+        let e_initial = energy.of(&initial)?.total(self.alpha);
 
-    let mut iterations = 0;
-    let mut history = Vec::new();
-    let mut flow = |domain: Ellipsoid, start: Vec<[f64; 3]>| -> Result<Trial> {
-        let on = Target {
-            domain,
-            method: "edeq",
-            match_areas: false,
-        };
-        let done = iterations;
-        let mut counted = |p: Progress| {
-            progress(Progress {
-                iteration: p.iteration + done,
-                max_iter: p.max_iter + done,
-                error: p.error,
-            })
-        };
-        let out = equalize(
-            on,
-            mesh,
-            population,
-            start,
-            Some(&order),
-            &flow_config,
-            &mut counted,
-        )?;
-        iterations += out.iterations;
-        history.extend_from_slice(&out.history);
-        let terms = energy.of(&out.positions)?;
-        Ok(Trial {
-            domain,
-            energy: terms.total(config.alpha),
-            terms,
-            result: out,
-        })
-    };
-    let mut best = flow(domain, initial.clone())?;
-    let mut rounds = 1;
-    let mut stretch = 1.0;
-    let mut settled = false;
-    while rounds < config.rounds && best.result.converged {
-        let proposed = best_radii(&energy, &best.domain, &best.result.positions)?;
-        let step = log_step(&best.domain, &proposed);
-        let mut better = None;
-        let mut f = stretch;
-        while f * max_abs(step) > RADII_TOL && f >= MIN_STRETCH {
-            let domain = along(&best.domain, step, f)?;
-            // A fresh start on the new radii: the ellipsoidal conformal map onto them (a map
-            // carried over would keep the distortion of the flows before).
-            let mut ignored = Vec::new();
-            let start = super::edem::initial_map(
+        let mut iterations = 0;
+        let mut history = Vec::new();
+        let mut flow = |domain: Ellipsoid, start: Vec<[f64; 3]>| -> Result<Trial> {
+            let on = Target {
+                domain,
+                method: "edeq",
+                match_areas: false,
+            };
+            let done = iterations;
+            let mut counted = |p: Progress| {
+                progress(Progress {
+                    iteration: p.iteration + done,
+                    max_iter: p.max_iter + done,
+                    error: p.error,
+                })
+            };
+            let out = equalize(
+                on,
                 mesh,
                 population,
-                &domain.scaled_by_power_of_two(-k),
-                &domain,
-                &order,
-                &mut ignored,
+                start,
+                Some(order),
+                &self.flow,
+                &mut counted,
             )?;
-            let trial = flow(domain, start)?;
-            rounds += 1;
-            if trial.result.converged && trial.energy < best.energy {
-                better = Some(trial);
-                break;
+            iterations += out.iterations;
+            history.extend_from_slice(&out.history);
+            let terms = energy.of(&out.positions)?;
+            Ok(Trial {
+                domain,
+                energy: terms.total(self.alpha),
+                terms,
+                result: out,
+            })
+        };
+        let mut best = flow(domain, initial.clone())?;
+        let mut rounds = 1;
+        let mut stretch = 1.0;
+        let mut settled = false;
+        while rounds < self.rounds && best.result.converged {
+            let proposed = best_radii(&energy, &best.domain, &best.result.positions)?;
+            let step = log_step(&best.domain, &proposed);
+            let mut better = None;
+            let mut f = stretch;
+            while f * max_abs(step) > RADII_TOL && f >= MIN_STRETCH {
+                let domain = along(&best.domain, step, f)?;
+                // A fresh start on the new radii: the ellipsoidal conformal map onto them (a map
+                // carried over would keep the distortion of the flows before).
+                let mut ignored = Vec::new();
+                let start = super::edem::initial_map(
+                    mesh,
+                    population,
+                    &domain.scaled_by_power_of_two(-k),
+                    &domain,
+                    order,
+                    &mut ignored,
+                )?;
+                let trial = flow(domain, start)?;
+                rounds += 1;
+                if trial.result.converged && trial.energy < best.energy {
+                    better = Some(trial);
+                    break;
+                }
+                f *= 0.5;
+                if rounds >= self.rounds {
+                    break;
+                }
             }
-            f *= 0.5;
-            if rounds >= config.rounds {
-                break;
+            match better {
+                Some(t) => {
+                    let full = f >= stretch;
+                    best = t;
+                    stretch = if full {
+                        (2.0 * stretch).min(MAX_STRETCH)
+                    } else {
+                        f
+                    };
+                }
+                None => {
+                    settled = true;
+                    break;
+                }
             }
         }
-        match better {
-            Some(t) => {
-                let full = f >= stretch;
-                best = t;
-                stretch = if full {
-                    (2.0 * stretch).min(MAX_STRETCH)
-                } else {
-                    f
-                };
-            }
-            None => {
-                settled = true;
-                break;
-            }
-        }
-    }
-    let Trial {
-        domain,
-        energy: e_final,
-        terms,
-        mut result,
-    } = best;
-    result.iterations = iterations;
-    result.history = history;
-    let chosen = domain.scaled_by_power_of_two(-k);
-    let [a, b, c] = chosen.radii();
-    notes.push(format!(
-        "radii {a:.6}:{b:.6}:{c:.6} chosen after {rounds} maps; energy {e_final:.6e} (density \
-         {:.3e}, distortion Σ|μ|² {:.6e}, α = {}); the initial map's {e_initial:.6e}",
-        terms.density, terms.distortion, config.alpha
-    ));
-    if !settled && result.converged {
-        result.converged = false;
-        result.stop_reason = StopReason::MaxIter;
+        let Trial {
+            domain,
+            energy: e_final,
+            terms,
+            mut result,
+        } = best;
+        result.iterations = iterations;
+        result.history = history;
+        let chosen = domain.scaled_by_power_of_two(-k);
+        let [a, b, c] = chosen.radii();
         notes.push(format!(
-            "the radii were still improving the energy after {rounds} maps (the limit)"
+            "radii {a:.6}:{b:.6}:{c:.6} chosen after {rounds} maps; energy {e_final:.6e} (density \
+         {:.3e}, distortion Σ|μ|² {:.6e}, α = {}); the initial map's {e_initial:.6e}",
+            terms.density, terms.distortion, self.alpha
         ));
+        if !settled && result.converged {
+            result.converged = false;
+            result.stop_reason = StopReason::MaxIter;
+            notes.push(format!(
+                "the radii were still improving the energy after {rounds} maps (the limit)"
+            ));
+        }
+        let unscale = |x: &[[f64; 3]]| -> Vec<[f64; 3]> {
+            let mut x = local.restore_vertices(x);
+            crate::mesh::scale::scale_positions(&mut x, -k);
+            x
+        };
+        result.method = "edeq";
+        result.positions = unscale(&result.positions);
+        result.initial = unscale(&initial);
+        result.ellipsoid = Some(chosen);
+        result.time_init = time_init;
+        notes.append(&mut result.notes);
+        result.notes = notes;
+        Ok(result)
     }
-    let unscale = |x: &[[f64; 3]]| -> Vec<[f64; 3]> {
-        let mut x = local.restore_vertices(x);
-        crate::mesh::scale::scale_positions(&mut x, -k);
-        x
-    };
-    result.method = "edeq";
-    result.positions = unscale(&result.positions);
-    result.initial = unscale(&initial);
-    result.ellipsoid = Some(chosen);
-    result.time_init = time_init;
-    notes.append(&mut result.notes);
-    result.notes = notes;
-    Ok(result)
 }
 
 /// The guess of the radii from the surface: proportional to the standard deviations along x,
@@ -407,7 +390,7 @@ mod tests {
             guess: Some(Ellipsoid::UNIT_SPHERE),
             ..Config::default()
         };
-        let r = run(&mesh, &pop, &config, &mut |_| {}).unwrap();
+        let r = config.run(&mesh, &pop, &mut |_| {}).unwrap();
         let e = r.ellipsoid.unwrap();
         let [a, b, c] = e.radii();
         assert_eq!(a, 1.0);
@@ -447,7 +430,7 @@ mod tests {
             ..Config::default()
         };
         assert!(matches!(
-            run(&mesh, &pop, &config, &mut |_| {}),
+            config.run(&mesh, &pop, &mut |_| {}),
             Err(Error::Argument(_))
         ));
     }

@@ -3,7 +3,9 @@
 use crate::init::mobius::mobius_area_correction;
 use crate::init::spherical_conformal::spherical_conformal_map_in_order;
 use crate::linalg::VertexOrder;
+use crate::mesh::Locality;
 use crate::mesh::topology::topology;
+use crate::methods::iteration::check_parameters;
 use crate::{Error, Result, TriMesh};
 
 /// Checks that `mesh` is a genus-0 closed surface (no boundary, one component) and that
@@ -51,4 +53,45 @@ pub(crate) fn initial_sphere_map(
 ) -> Result<Vec<[f64; 3]>> {
     let conformal = spherical_conformal_map_in_order(&mesh.positions, &mesh.faces, order, notes)?;
     Ok(mobius_area_correction(&conformal, &mesh.faces, population).map)
+}
+
+/// A genus-0 closed surface checked for a spherical or ellipsoidal method (SDEM, EDEM, EDEQ),
+/// renumbered for a cache-friendly traversal ([`Locality`]), with its elimination order.
+pub(crate) struct SphereInput {
+    /// The renumbering; it restores the input's vertex order at the end.
+    pub local: Locality,
+    /// The renumbered mesh.
+    pub mesh: TriMesh,
+    /// The population, one value per face of the renumbered mesh.
+    pub population: Vec<f64>,
+    /// The fill-reducing order shared by every factorization on the mesh.
+    pub order: VertexOrder,
+}
+
+impl SphereInput {
+    /// Checks the flow's parameters ([`check_parameters`]) and the input
+    /// ([`check_sphere_input`]) for `method`, then renumbers the mesh and orders it.
+    pub(crate) fn new(
+        mesh: &TriMesh,
+        population: &[f64],
+        flow: &super::sdem::Config,
+        method: &str,
+    ) -> Result<Self> {
+        check_parameters(flow.epsilon, flow.dt, flow.max_iter)?;
+        check_sphere_input(mesh, population, method)?;
+        let local = Locality::breadth_first(mesh.n_vertices(), &mesh.faces);
+        let (mesh, population) = (local.mesh(mesh), local.faces(population));
+        let order = VertexOrder::of_mesh(mesh.n_vertices(), &mesh.faces)?;
+        Ok(Self {
+            local,
+            mesh,
+            population,
+            order,
+        })
+    }
+
+    /// The renumbering, the mesh, its population and its order, borrowed together.
+    pub(crate) fn parts(&self) -> (&Locality, &TriMesh, &[f64], &VertexOrder) {
+        (&self.local, &self.mesh, &self.population, &self.order)
+    }
 }

@@ -34,11 +34,11 @@
 //! step is the default is recorded in `docs/deviations.md`.
 
 use super::density::{Density, SphereDiffusion};
-use super::input::{check_sphere_input, initial_sphere_map};
+use super::input::{SphereInput, check_sphere_input, initial_sphere_map};
 use super::overlap::{OverlapCorrector, advance};
 use crate::geometry::ellipsoid::Ellipsoid;
 use crate::linalg::VertexOrder;
-use crate::mesh::Locality;
+use crate::methods::MethodConfig;
 use crate::methods::iteration::{
     Flow, Keep, Measured, Moved, Rules, Stationary, Step, check_parameters, iterate,
 };
@@ -90,51 +90,36 @@ impl Default for Config {
     }
 }
 
-/// Computes the SDEM of `mesh` (a genus-0 closed surface) with one `population` value per face.
-/// The result lies on the unit sphere, in input vertex order.
-pub fn run(
-    mesh: &TriMesh,
-    population: &[f64],
-    config: &Config,
-    progress: ProgressFn,
-) -> Result<MapResult> {
-    check_parameters(config.epsilon, config.dt, config.max_iter)?;
-    check_sphere_input(mesh, population, "sdem")?;
-    let t0 = Instant::now();
-    // The computation runs in a cache-friendly numbering of the mesh (`mesh::Locality`).
-    let local = Locality::breadth_first(mesh.n_vertices(), &mesh.faces);
-    let (mesh, population) = (&local.mesh(mesh), &local.faces(population));
-    let mut notes = Vec::new();
-    let order = VertexOrder::of_mesh(mesh.n_vertices(), &mesh.faces)?;
-    let initial = initial_sphere_map(mesh, population, &order, &mut notes)?;
-    if crate::init::spherical_conformal::count_spherical_flips(&initial, &mesh.faces) > 0 {
-        return Err(Error::InvalidMesh(format!(
-            "the mesh is too small to map onto the sphere: with {} faces its spherical \
+impl MethodConfig for Config {
+    /// Computes the SDEM of `mesh` (a genus-0 closed surface) with one `population` value per face.
+    /// The result lies on the unit sphere, in input vertex order.
+    fn run(&self, mesh: &TriMesh, population: &[f64], progress: ProgressFn) -> Result<MapResult> {
+        let t0 = Instant::now();
+        let input = SphereInput::new(mesh, population, self, "sdem")?;
+        let (local, mesh, population, order) = input.parts();
+        let mut notes = Vec::new();
+        let initial = initial_sphere_map(mesh, population, order, &mut notes)?;
+        if crate::init::spherical_conformal::count_spherical_flips(&initial, &mesh.faces) > 0 {
+            return Err(Error::InvalidMesh(format!(
+                "the mesh is too small to map onto the sphere: with {} faces its spherical \
              conformal map folds (subdivide it; the icosahedron's 20 faces are enough)",
-            mesh.n_faces()
-        )));
+                mesh.n_faces()
+            )));
+        }
+        let time_init = t0.elapsed().as_secs_f64();
+        let on = Target {
+            domain: Ellipsoid::UNIT_SPHERE,
+            method: "sdem",
+            match_areas: false,
+        };
+        let mut result = equalize(on, mesh, population, initial, Some(order), self, progress)?;
+        result.positions = local.restore_vertices(&result.positions);
+        result.initial = local.restore_vertices(&result.initial);
+        result.time_init = time_init;
+        notes.append(&mut result.notes);
+        result.notes = notes;
+        Ok(result)
     }
-    let time_init = t0.elapsed().as_secs_f64();
-    let on = Target {
-        domain: Ellipsoid::UNIT_SPHERE,
-        method: "sdem",
-        match_areas: false,
-    };
-    let mut result = equalize(
-        on,
-        mesh,
-        population,
-        initial,
-        Some(&order),
-        config,
-        progress,
-    )?;
-    result.positions = local.restore_vertices(&result.positions);
-    result.initial = local.restore_vertices(&result.initial);
-    result.time_init = time_init;
-    notes.append(&mut result.notes);
-    result.notes = notes;
-    Ok(result)
 }
 
 /// Algorithm 3.1 from a given flip-free initial map `initial` (unit vectors, faces
@@ -419,7 +404,7 @@ pub(crate) mod tests {
         // Density varying smoothly by a factor 10 from the south to the north pole.
         let mesh = icosphere(4).unwrap();
         let pop = area_times(&mesh, |c| 1.0 + 4.5 * (c[2] + 1.0));
-        let r = run(&mesh, &pop, &Config::default(), &mut |_| {}).unwrap();
+        let r = Config::default().run(&mesh, &pop, &mut |_| {}).unwrap();
         assert!(r.converged);
         let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Sphere, None);
         assert_eq!(m.flipped_triangles, 0);
@@ -460,7 +445,7 @@ pub(crate) mod tests {
     fn a_disk_is_refused() {
         let disk = crate::generate::regular_polygon(12, 3).unwrap();
         let pop = face_areas(&disk.positions, &disk.faces);
-        let e = run(&disk, &pop, &Config::default(), &mut |_| {}).unwrap_err();
+        let e = Config::default().run(&disk, &pop, &mut |_| {}).unwrap_err();
         assert!(matches!(e, Error::Topology { .. }), "{e}");
     }
 }

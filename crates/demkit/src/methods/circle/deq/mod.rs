@@ -27,6 +27,7 @@
 //! 6. **LDEQ** ([`landmarks`]): from DEQ's map the landmarks are led to their targets without
 //!    folding the map, then the energy is minimised with them pinned.
 
+use crate::methods::MethodConfig;
 mod beltrami;
 mod chords;
 mod circle;
@@ -155,23 +156,21 @@ pub(crate) fn check_config(c: &Config) -> Result<()> {
     Ok(())
 }
 
-/// Computes the DEQ map of `mesh` (a connected open genus-0 surface) with one `population`
-/// value per face. The result lies in the unit disk (z = 0), in input vertex order.
-pub fn run(
-    mesh: &TriMesh,
-    population: &[f64],
-    config: &Config,
-    progress: ProgressFn,
-) -> Result<MapResult> {
-    check_config(config)?;
-    let loops = circle_input(mesh, population, "deq")?;
-    let request = Request {
-        loops: &loops,
-        landmarks: &[],
-        config,
-        method: "deq",
-    };
-    circle_domain_map(mesh, population, &request, progress)
+impl MethodConfig for Config {
+    /// Computes the DEQ map of `mesh` (a connected open genus-0 surface) with one `population`
+    /// value per face. The result lies in the unit disk (z = 0), in input vertex order.
+    fn run(&self, mesh: &TriMesh, population: &[f64], progress: ProgressFn) -> Result<MapResult> {
+        let config = self;
+        check_config(config)?;
+        let loops = circle_input(mesh, population, "deq")?;
+        let request = Request {
+            loops: &loops,
+            landmarks: &[],
+            config,
+            method: "deq",
+        };
+        circle_domain_map(mesh, population, &request, progress)
+    }
 }
 
 /// What DEQ (models (4.2), Algorithms 5.1–5.4) or LDEQ (model (4.7)) is asked to do with a
@@ -419,7 +418,7 @@ pub(crate) mod tests {
     fn annulus_with_four_quadrants_equalizes_bijectively() {
         let mesh = annulus(0.4, 1.0, 12, 96).unwrap();
         let pop = quadrant_population(&mesh);
-        let r = run(&mesh, &pop, &Config::default(), &mut |_| {}).unwrap();
+        let r = Config::default().run(&mesh, &pop, &mut |_| {}).unwrap();
         let m = compute(&mesh, &pop, &r.initial, &r.positions, Domain::Plane, None);
         assert_eq!(m.flipped_triangles, 0);
         assert!(r.converged);
@@ -437,7 +436,7 @@ pub(crate) mod tests {
         let mut mesh = annulus(0.4, 1.0, 4, 24).unwrap();
         mesh.positions.push([5.0, 5.0, 0.0]);
         let pop = face_areas(&mesh.positions, &mesh.faces);
-        let e = run(&mesh, &pop, &Config::default(), &mut |_| {}).unwrap_err();
+        let e = Config::default().run(&mesh, &pop, &mut |_| {}).unwrap_err();
         assert!(e.to_string().contains("belongs to no face"), "{e}");
     }
 
@@ -455,7 +454,7 @@ pub(crate) mod tests {
         // The loop runs a → b along the face orientation, so the ear runs b → a.
         mesh.faces.push([b, a, apex]);
         let pop = face_areas(&mesh.positions, &mesh.faces);
-        let r = run(&mesh, &pop, &Config::default(), &mut |_| {}).unwrap();
+        let r = Config::default().run(&mesh, &pop, &mut |_| {}).unwrap();
         let refined = r.refined.as_ref().expect("the ear's chord is split");
         assert_eq!(refined.mesh.n_vertices(), mesh.n_vertices() + 1);
         assert_eq!(refined.mesh.n_faces(), mesh.n_faces() + 2);
@@ -499,7 +498,7 @@ pub(crate) mod tests {
             geometry_update: false,
             ..Config::default()
         };
-        let r = run(&mesh, &pop, &config, &mut |_| {}).unwrap();
+        let r = config.run(&mesh, &pop, &mut |_| {}).unwrap();
         let loops = circle_input(&mesh, &pop, "deq").unwrap();
         for lp in &loops[1..] {
             let (before, after) = (Circle::fit(&r.initial, lp), Circle::fit(&r.positions, lp));
@@ -508,7 +507,7 @@ pub(crate) mod tests {
             assert!((before.radius - after.radius).abs() < 1e-9);
         }
         // With the geometry update the holes move.
-        let moved = run(&mesh, &pop, &Config::default(), &mut |_| {}).unwrap();
+        let moved = Config::default().run(&mesh, &pop, &mut |_| {}).unwrap();
         let lp = &loops[1];
         let (a, b) = (
             Circle::fit(&moved.initial, lp),
