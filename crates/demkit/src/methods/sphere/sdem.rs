@@ -74,7 +74,10 @@ const ADAPTIVE_STATIONARY: Stationary = Stationary::Best {
 };
 
 /// An adaptive run that stalls with sd/mean of the vertex density at or above this many times ε
-/// has not equalized it: the paper's fixed step takes over.
+/// has not equalized it: the paper's fixed step takes over. Not when the map ends with local
+/// area matching ([`Target::match_areas`]) and sd/mean of ρ_V is at most the face misfit: the
+/// misfit left is then at the scale of single faces, which the vertex density does not see and
+/// the matching removes.
 const STALLED: f64 = 10.0;
 
 /// The paper's time step δt, which takes over when the adaptive step stalls.
@@ -198,6 +201,18 @@ pub(crate) fn equalize(
         let last = out.history.last().copied().unwrap_or(0.0);
         if out.stop_reason != StopReason::Stationary || last < STALLED * config.epsilon {
             return Ok(finish(on, out, initial, population, &flow, t1, notes));
+        }
+        if on.match_areas {
+            let d = flow.diffusion.measure(&out.map);
+            if d.sd_over_mean <= d.misfit {
+                notes.push(format!(
+                    "the adaptive step stalled after {} iterations at sd/mean {:.3}, below the \
+                     face misfit {:.3}: what is left alternates between neighbouring faces, \
+                     for the local area matching",
+                    out.iterations, d.sd_over_mean, d.misfit
+                ));
+                return Ok(finish(on, out, initial, population, &flow, t1, notes));
+            }
         }
         // The face misfit stopped improving with the vertex density far from equal: the
         // paper's step from the start, and the better of the two maps.
