@@ -392,6 +392,17 @@ fn hand_with_three_holes() {
     variation("hand, 3 holes", &mesh, &pop, 3);
 }
 
+/// The hand with three holes at a placement whose fine map folds about 1 200 interior faces
+/// when it follows the coarse one, more than 8 rings around them can untangle.
+#[test]
+#[ignore = "needs real meshes (DEMKIT_DATA)"]
+fn hand_with_three_holes_folding_on_prolongation() {
+    let hand = load("open/hand.obj");
+    let mesh = cut_holes(&hand, &random_holes(&hand, 3, 11, 0.03), false);
+    let pop = population(&mesh, "area");
+    variation("hand, 3 holes (seed 11)", &mesh, &pop, 3);
+}
+
 /// The cortical surface (96 811 faces) with four holes cut through its folds, and a
 /// population bump.
 #[test]

@@ -180,8 +180,10 @@ impl Coarse {
     }
 }
 
-/// How far around folded triangles the untangling moves vertices, in rings, tried in turn.
-const UNTANGLE_RINGS: [usize; 3] = [2, 4, 8];
+/// How far around folded triangles the untangling moves vertices, in rings, tried in turn. A
+/// prolongation that cannot be untangled sends the whole surface to the direct map, which costs
+/// far more than a wide untangling (`docs/deviations.md`, coarse-to-fine).
+const UNTANGLE_RINGS: [usize; 5] = [2, 4, 8, 16, 32];
 
 /// An evenly spread subset of the vertices: the `must` ones, then greedily every vertex more
 /// than `r` edges from all chosen ones, with the smallest `r` that leaves at most `target`
