@@ -56,8 +56,7 @@ impl Default for Config {
 impl MethodConfig for Config {
     /// Computes the DEM of `mesh` (a topological disk) with one `population` value per face.
     fn run(&self, mesh: &TriMesh, population: &[f64], progress: ProgressFn) -> Result<MapResult> {
-        let config = self;
-        check_config(config)?;
+        check_config(self)?;
         let t0 = Instant::now();
         let boundary = disk_boundary(mesh, population, "dem")?;
         let faces = &mesh.faces;
@@ -69,8 +68,8 @@ impl MethodConfig for Config {
             None => {
                 let bp = curvature_flatten_boundary(&mesh.positions, &boundary);
                 let (map, used) =
-                    flatten_with_fallback(&mesh.positions, faces, &boundary, &bp, config.initial)?;
-                if used != config.initial {
+                    flatten_with_fallback(&mesh.positions, faces, &boundary, &bp, self.initial)?;
+                if used != self.initial {
                     notes.push(
                         "the locally authalic initial map overlapped; used Tutte's map instead"
                             .to_string(),
@@ -96,7 +95,7 @@ impl MethodConfig for Config {
             .collect();
 
         // Alg. 4: the sea.
-        let sea = build_sea_with_radius(&roi, faces, &boundary, config.eta, config.roi_radius)?;
+        let sea = build_sea_with_radius(&roi, faces, &boundary, self.eta, self.roi_radius)?;
         let r: Vec<[f64; 3]> = sea.positions.iter().map(|p| [p[0], p[1], 0.0]).collect();
         let areas = face_areas(&r, &sea.faces);
         let total_pop: f64 = population.iter().sum();
@@ -114,10 +113,10 @@ impl MethodConfig for Config {
             n_roi_vertices: sea.n_roi_vertices,
             n_roi_faces: sea.n_roi_faces,
             constraint: &super::planar_diffusion::Free,
-            dt: config.dt,
-            epsilon: config.epsilon,
-            max_iter: config.max_iter,
-            patience: config.patience,
+            dt: self.dt,
+            epsilon: self.epsilon,
+            max_iter: self.max_iter,
+            patience: self.patience,
         };
         let out = planar_diffusion::run(&problem, r, progress)?;
 

@@ -47,8 +47,7 @@ impl Default for Config {
 impl MethodConfig for Config {
     /// Computes the shape-prescribed DEM of `mesh` (a topological disk).
     fn run(&self, mesh: &TriMesh, population: &[f64], progress: ProgressFn) -> Result<MapResult> {
-        let config = self;
-        check_parameters(config.epsilon, config.dt, config.max_iter)?;
+        check_parameters(self.epsilon, self.dt, self.max_iter)?;
         let t0 = Instant::now();
         let boundary = disk_boundary(mesh, population, "dem-shape")?;
         let faces = &mesh.faces;
@@ -59,7 +58,7 @@ impl MethodConfig for Config {
                 norm(sub(b, a))
             })
             .collect();
-        let bp = shape_boundary(mesh, &boundary, &lengths, config.shape)?;
+        let bp = shape_boundary(mesh, &boundary, &lengths, self.shape)?;
         let initial = fixed_boundary_map(
             &mesh.positions,
             faces,
@@ -79,7 +78,7 @@ impl MethodConfig for Config {
         let t1 = Instant::now();
         let constraint = planar_diffusion::OnShape {
             boundary,
-            shape: config.shape,
+            shape: self.shape,
         };
         let problem = Problem {
             faces,
@@ -87,10 +86,10 @@ impl MethodConfig for Config {
             n_roi_vertices: mesh.n_vertices(),
             n_roi_faces: mesh.n_faces(),
             constraint: &constraint,
-            dt: config.dt,
-            epsilon: config.epsilon,
-            max_iter: config.max_iter,
-            patience: config.patience,
+            dt: self.dt,
+            epsilon: self.epsilon,
+            max_iter: self.max_iter,
+            patience: self.patience,
         };
         let out = planar_diffusion::run(&problem, initial.clone(), progress)?;
         let mut result = MapResult::new(

@@ -202,17 +202,17 @@ pub(crate) fn equalize(
         if out.stop_reason != StopReason::Stationary || last < STALLED * config.epsilon {
             return Ok(finish(on, out, initial, population, &flow, t1, notes));
         }
-        if on.match_areas {
-            let d = flow.diffusion.measure(&out.map);
-            if d.sd_over_mean <= d.misfit {
-                notes.push(format!(
-                    "the adaptive step stalled after {} iterations at sd/mean {:.3}, below the \
-                     face misfit {:.3}: what is left alternates between neighbouring faces, \
-                     for the local area matching",
-                    out.iterations, d.sd_over_mean, d.misfit
-                ));
-                return Ok(finish(on, out, initial, population, &flow, t1, notes));
-            }
+        // The best map's measure: the area matching's test below, and the comparison with the
+        // fixed step's map.
+        let best = flow.diffusion.measure(&out.map);
+        if on.match_areas && best.sd_over_mean <= best.misfit {
+            notes.push(format!(
+                "the adaptive step stalled after {} iterations at sd/mean {:.3}, below the face \
+                 misfit {:.3}: what is left alternates between neighbouring faces, for the local \
+                 area matching",
+                out.iterations, best.sd_over_mean, best.misfit
+            ));
+            return Ok(finish(on, out, initial, population, &flow, t1, notes));
         }
         // The face misfit stopped improving with the vertex density far from equal: the
         // paper's step from the start, and the better of the two maps.
@@ -224,16 +224,15 @@ pub(crate) fn equalize(
         flow.dt = Some(PAPER_DT);
         flow.diffusion_time = PAPER_DT;
         rules.max_iter = config.max_iter.saturating_sub(out.iterations).max(1);
-        adaptive = Some(out);
+        adaptive = Some((out, best.misfit));
     }
     rules.step = Step::Fixed(flow.dt.unwrap_or(PAPER_DT));
     rules.stationary = Some(FIXED_STATIONARY);
     let mut out = iterate(&mut flow, initial.clone(), &rules, progress)?;
-    if let Some(mut first) = adaptive {
-        let misfit = |x: &[[f64; 3]]| flow.diffusion.measure(x).misfit;
+    if let Some((mut first, first_misfit)) = adaptive {
         first.iterations += out.iterations;
         first.history.append(&mut out.history);
-        if misfit(&out.map) <= misfit(&first.map) {
+        if flow.diffusion.measure(&out.map).misfit <= first_misfit {
             first.map = out.map;
             first.stop_reason = out.stop_reason;
         }

@@ -160,13 +160,12 @@ impl MethodConfig for Config {
     /// Computes the DEQ map of `mesh` (a connected open genus-0 surface) with one `population`
     /// value per face. The result lies in the unit disk (z = 0), in input vertex order.
     fn run(&self, mesh: &TriMesh, population: &[f64], progress: ProgressFn) -> Result<MapResult> {
-        let config = self;
-        check_config(config)?;
+        check_config(self)?;
         let loops = circle_input(mesh, population, "deq")?;
         let request = Request {
             loops: &loops,
             landmarks: &[],
-            config,
+            config: self,
             method: "deq",
         };
         circle_domain_map(mesh, population, &request, progress)
