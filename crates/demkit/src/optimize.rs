@@ -51,12 +51,14 @@ pub(crate) fn sampled_golden_section(
 }
 
 /// Nelder–Mead minimisation of `f` over the plane from `x0` with initial step `step`, at most
-/// `iterations` steps, stopping when the simplex's values agree to 1e-10 (relative).
+/// `iterations` steps, stopping when the simplex's values agree to 1e-10 (relative) or its
+/// corners lie within `size_tol` of the best in each coordinate (0: no such stop).
 pub(crate) fn nelder_mead(
     f: impl Fn([f64; 2]) -> f64,
     x0: [f64; 2],
     step: f64,
     iterations: usize,
+    size_tol: f64,
 ) -> ([f64; 2], f64) {
     let mut s = [x0, [x0[0] + step, x0[1]], [x0[0], x0[1] + step]];
     let mut v = s.map(&f);
@@ -66,6 +68,13 @@ pub(crate) fn nelder_mead(
         s = idx.map(|i| s[i]);
         v = idx.map(|i| v[i]);
         if (v[2] - v[0]).abs() <= 1e-10 * v[0].abs().max(1e-300) {
+            break;
+        }
+        let extent = (1..3)
+            .flat_map(|i| (0..2).map(move |d| (i, d)))
+            .map(|(i, d)| (s[i][d] - s[0][d]).abs())
+            .fold(0.0, f64::max);
+        if extent <= size_tol {
             break;
         }
         let c = [(s[0][0] + s[1][0]) / 2.0, (s[0][1] + s[1][1]) / 2.0];
@@ -104,10 +113,37 @@ mod tests {
     use super::*;
 
     #[test]
+    fn nelder_mead_stops_once_its_simplex_is_small_enough() {
+        // Without a size tolerance the search runs until the values agree to 1e-10; with one
+        // of 1e-3 it stops sooner, within that distance of the minimum at (1, −2).
+        let count = std::cell::Cell::new(0);
+        let f = |x: [f64; 2]| {
+            count.set(count.get() + 1);
+            (x[0] - 1.0).powi(2) + 2.0 * (x[1] + 2.0).powi(2)
+        };
+        let (fine, _) = nelder_mead(f, [0.0, 0.0], 0.1, 500, 0.0);
+        let all = count.replace(0);
+        let (coarse, _) = nelder_mead(f, [0.0, 0.0], 0.1, 500, 1e-3);
+        let few = count.get();
+        assert!(
+            few < all,
+            "{few} evaluations with the size stop, {all} without"
+        );
+        assert!(
+            (fine[0] - 1.0).abs() < 1e-4 && (fine[1] + 2.0).abs() < 1e-4,
+            "{fine:?}"
+        );
+        assert!(
+            (coarse[0] - 1.0).abs() < 5e-3 && (coarse[1] + 2.0).abs() < 5e-3,
+            "{coarse:?}"
+        );
+    }
+
+    #[test]
     fn nelder_mead_finds_the_minimum_of_a_quadratic_bowl() {
         let f = |x: [f64; 2]| (x[0] - 1.0).powi(2) + 3.0 * (x[1] + 0.5).powi(2) + x[0] * x[1];
         // Minimum where ∇f = 0: 2(x − 1) + y = 0, 6(y + 0.5) + x = 0.
-        let (x, _) = nelder_mead(f, [0.0, 0.0], 0.1, 200);
+        let (x, _) = nelder_mead(f, [0.0, 0.0], 0.1, 200, 0.0);
         let (x_exact, y_exact) = (15.0 / 11.0, -8.0 / 11.0);
         assert!(
             (x[0] - x_exact).abs() < 1e-4 && (x[1] - y_exact).abs() < 1e-4,

@@ -153,13 +153,15 @@ pub struct SphericalWalk {
     corners: Vec<[[f64; 3]; 3]>,
     /// The face across the edge opposite each corner (`u32::MAX` on a boundary).
     neighbours: Vec<[u32; 3]>,
+    /// Where [`Self::locate`] starts: a face per cell of the cube's surface ([`CubeCells`]).
+    starts: CubeCells,
 }
 
 impl SphericalWalk {
     /// The walk over the faces of the map `points` (on the unit sphere, faces counter-clockwise
     /// seen from outside).
     pub fn new(points: &[[f64; 3]], faces: &[[u32; 3]]) -> Self {
-        let corners = faces
+        let corners: Vec<[[f64; 3]; 3]> = faces
             .iter()
             .map(|f| f.map(|v| points[v as usize]))
             .collect();
@@ -173,10 +175,18 @@ impl SphericalWalk {
                 neighbours[fg][((g % 3 + 2) % 3) as usize] = fh as u32;
             }
         });
+        let starts = CubeCells::new(&corners);
         Self {
             corners,
             neighbours,
+            starts,
         }
+    }
+
+    /// [`Self::locate_from`] a face near `p`: one whose centroid lies in `p`'s cell of the
+    /// cube, or the nearest such face along the cells' order where the cell has none.
+    pub fn locate(&self, p: [f64; 3]) -> Option<Location> {
+        self.locate_from(p, self.starts.face(p))
     }
 
     /// The number of faces.
@@ -229,6 +239,69 @@ impl SphericalWalk {
             }
         }
         finish(best)
+    }
+}
+
+/// The surface of the cube [−1, 1]³ cut into `m × m` cells on each of its six sides, with a
+/// face of a spherical map per cell: the direction `p` falls in the cell where its ray leaves
+/// the cube, and a face's centroid names its cell. With about one face per cell, a walk from
+/// the cell's face is a few steps where the faces are of even size; where they are not, from
+/// a face no farther than the cell.
+#[derive(Debug, Clone)]
+struct CubeCells {
+    m: usize,
+    face: Vec<u32>,
+}
+
+impl CubeCells {
+    /// The cells for the faces with `corners`, about one face per cell (at most 6 · 1024²
+    /// cells). Every cell gets a face: an empty one takes the face of the cell before it in
+    /// the cells' order (or after, for the first ones).
+    fn new(corners: &[[[f64; 3]; 3]]) -> Self {
+        let m = ((corners.len() as f64 / 6.0).sqrt().ceil() as usize).clamp(1, 1024);
+        let mut cells = CubeCells {
+            m,
+            face: vec![u32::MAX; 6 * m * m],
+        };
+        for (f, c) in corners.iter().enumerate() {
+            let centroid = [0, 1, 2].map(|d| c[0][d] + c[1][d] + c[2][d]);
+            if let Some(i) = cells.cell(centroid) {
+                cells.face[i] = f as u32;
+            }
+        }
+        let first = cells
+            .face
+            .iter()
+            .copied()
+            .find(|&f| f != u32::MAX)
+            .unwrap_or(0);
+        let mut last = first;
+        for f in cells.face.iter_mut() {
+            if *f == u32::MAX {
+                *f = last;
+            } else {
+                last = *f;
+            }
+        }
+        cells
+    }
+
+    /// The cell of the direction `p`; `None` for the zero or a non-finite vector.
+    fn cell(&self, p: [f64; 3]) -> Option<usize> {
+        let k = (0..3).max_by(|&i, &j| p[i].abs().total_cmp(&p[j].abs()))?;
+        let top = p[k].abs();
+        if !(top > 0.0 && top.is_finite()) {
+            return None;
+        }
+        let side = 2 * k + usize::from(p[k] < 0.0);
+        let (u, v) = (p[(k + 1) % 3] / top, p[(k + 2) % 3] / top);
+        let at = |x: f64| (((x + 1.0) * 0.5 * self.m as f64) as usize).min(self.m - 1);
+        Some((side * self.m + at(u)) * self.m + at(v))
+    }
+
+    /// The face of `p`'s cell (face 0 for a vector with no cell).
+    fn face(&self, p: [f64; 3]) -> usize {
+        self.cell(p).map_or(0, |i| self.face[i] as usize)
     }
 }
 
@@ -386,13 +459,15 @@ mod walk_tests {
             let t = i as f64 * 0.713;
             let p = normalize([t.sin(), (1.3 * t).cos(), (0.37 * t).sin() - 0.2]);
             let a = grid.locate(p).unwrap();
-            // From a far face, and from the face found.
+            // From a far face, from the face found, and from the cube cell's face.
+            let q = |l: &Location| interpolate(&mesh.positions, mesh.faces[l.face], l.weights);
             for start in [0, (i * 97) % walk.len(), a.face] {
                 let b = walk.locate_from(p, start).unwrap();
-                let q = |l: &Location| interpolate(&mesh.positions, mesh.faces[l.face], l.weights);
                 let d = dist2(q(&a), q(&b)).sqrt();
                 assert!(d < 1e-12, "{i}: {d}");
             }
+            let d = dist2(q(&a), q(&walk.locate(p).unwrap())).sqrt();
+            assert!(d < 1e-12, "{i}: {d}");
         }
     }
 }

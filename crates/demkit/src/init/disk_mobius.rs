@@ -74,7 +74,7 @@ pub fn balance_areas(domain: &CircleDomain, faces: &[[u32; 3]], weights: &[f64])
         imbalance(&w, faces, &log_weight)
     };
     let start = cost([0.0, 0.0]);
-    let (best, value) = crate::optimize::nelder_mead(cost, [0.0, 0.0], 0.1, 80);
+    let (best, value) = crate::optimize::nelder_mead(cost, [0.0, 0.0], 0.1, 80, 0.0);
     if !(value < start) {
         return domain.clone();
     }

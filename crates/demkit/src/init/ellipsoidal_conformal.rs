@@ -73,44 +73,81 @@ pub(crate) fn ellipsoidal_conformal_map_in_order(
     order: &VertexOrder,
     notes: &mut Vec<String>,
 ) -> Result<Vec<[f64; 3]>> {
-    let sphere = super::spherical_conformal::spherical_conformal_map_in_order(
-        positions, faces, order, notes,
-    )?;
-    let poles = Poles::of(positions, faces);
-    let normalized = normalize_mobius(&sphere, faces, &poles);
-    let corrected = if ellipsoid.is_unit_sphere() {
-        Ok(Dilations::new(
-            &normalized,
-            normalized.clone(),
-            faces,
-            &poles,
-            ellipsoid,
-        ))
-    } else {
-        conformal_correction(&normalized, faces, ellipsoid, &poles, order)
-    };
-    if let Ok(dilations) = corrected {
-        if let Some(map) = dilations.balanced(population)
-            && !faces.par_iter().any(|&f| spherical_flipped(&map, f))
-        {
-            return Ok(map);
-        }
-        notes.push(
-            "the ellipsoidal conformal correction folded the map; the normalized spherical \
-             conformal map scaled onto the ellipsoid was used instead"
-                .into(),
-        );
-    } else {
-        notes.push(
-            "the ellipsoidal conformal correction failed; the normalized spherical conformal \
-             map scaled onto the ellipsoid was used instead"
-                .into(),
-        );
+    let sphere = NormalizedSphere::new(positions, faces, order, notes)?;
+    Ok(sphere.onto(faces, ellipsoid, population, order, notes))
+}
+
+/// Steps 1 and 2, which do not depend on the ellipsoid: the surface's spherical conformal
+/// map, Möbius-normalized. One of them serves the maps onto any number of ellipsoids
+/// ([`Self::onto`]).
+pub(crate) struct NormalizedSphere {
+    normalized: Vec<[f64; 3]>,
+    poles: Poles,
+}
+
+impl NormalizedSphere {
+    /// Steps 1 and 2 for the genus-0 closed mesh (`positions`, `faces`) with its elimination
+    /// `order`; `notes` receives the spherical map's remarks.
+    pub(crate) fn new(
+        positions: &[[f64; 3]],
+        faces: &[[u32; 3]],
+        order: &VertexOrder,
+        notes: &mut Vec<String>,
+    ) -> Result<Self> {
+        let sphere = super::spherical_conformal::spherical_conformal_map_in_order(
+            positions, faces, order, notes,
+        )?;
+        let poles = Poles::of(positions, faces);
+        let normalized = normalize_mobius(&sphere, faces, &poles);
+        Ok(Self { normalized, poles })
     }
-    Ok(normalized
-        .iter()
-        .map(|&u| ellipsoid.from_sphere(u))
-        .collect())
+
+    /// Steps 3 to 5 onto `ellipsoid`: the ellipsoidal conformal map of the surface whose face
+    /// areas best match `population`. When the correction fails or folds, the normalized
+    /// spherical map scaled onto the ellipsoid, with a note.
+    pub(crate) fn onto(
+        &self,
+        faces: &[[u32; 3]],
+        ellipsoid: &Ellipsoid,
+        population: &[f64],
+        order: &VertexOrder,
+        notes: &mut Vec<String>,
+    ) -> Vec<[f64; 3]> {
+        let (normalized, poles) = (&self.normalized, &self.poles);
+        let corrected = if ellipsoid.is_unit_sphere() {
+            Ok(Dilations::new(
+                normalized,
+                normalized.clone(),
+                faces,
+                poles,
+                ellipsoid,
+            ))
+        } else {
+            conformal_correction(normalized, faces, ellipsoid, poles, order)
+        };
+        if let Ok(dilations) = corrected {
+            if let Some(map) = dilations.balanced(population)
+                && !faces.par_iter().any(|&f| spherical_flipped(&map, f))
+            {
+                return map;
+            }
+            notes.push(
+                "the ellipsoidal conformal correction folded the map; the normalized spherical \
+                 conformal map scaled onto the ellipsoid was used instead"
+                    .into(),
+            );
+        } else {
+            notes.push(
+                "the ellipsoidal conformal correction failed; the normalized spherical \
+                 conformal map scaled onto the ellipsoid was used instead"
+                    .into(),
+            );
+        }
+        normalized
+            .iter()
+            .map(|&u| ellipsoid.from_sphere(u))
+            .collect()
+    }
 }
 
 /// The faces of the surface that go to the poles, and the vertex that goes to the meridian of
@@ -274,8 +311,6 @@ struct Dilations<'a> {
     faces: &'a [[u32; 3]],
     /// Point location in the triangulation g(u), on the sphere.
     locator: SphericalWalk,
-    /// Per vertex, the face its point was last found in: where the next search starts.
-    hints: std::sync::Mutex<Vec<u32>>,
     /// g(0), in the plane.
     origin: Complex64,
     /// The vertex to keep on the meridian of +x.
@@ -320,33 +355,24 @@ impl<'a> Dilations<'a> {
         } else {
             Complex64::new(0.0, 0.0)
         };
-        // Every vertex's search starts from one of its own faces.
-        let mut hints = vec![0u32; u.len()];
-        for (f, t) in faces.iter().enumerate() {
-            for &v in t {
-                hints[v as usize] = f as u32;
-            }
-        }
         Self {
             u,
             plane,
             faces,
             locator: SphericalWalk::new(&image, faces),
-            hints: std::sync::Mutex::new(hints),
             origin,
             right: poles.right,
             ellipsoid,
         }
     }
 
-    /// `g⁻¹(T(z))` on the sphere for `T(z) = rotation · z + g(0)`, searched from face `hint`
-    /// (updated to the face found); `None` outside the triangulation.
-    fn pull_back(&self, z: Complex64, rotation: Complex64, hint: &mut u32) -> Option<[f64; 3]> {
+    /// `g⁻¹(T(z))` on the sphere for `T(z) = rotation · z + g(0)`; `None` outside the
+    /// triangulation.
+    fn pull_back(&self, z: Complex64, rotation: Complex64) -> Option<[f64; 3]> {
         let w = z * rotation + self.origin;
         let at = self
             .locator
-            .locate_from(unproject_from_north([w.re, w.im, 0.0]), *hint as usize)?;
-        *hint = at.face as u32;
+            .locate(unproject_from_north([w.re, w.im, 0.0]))?;
         let f = self.faces[at.face];
         let q = (0..3).fold([0.0; 3], |c, k| {
             add(c, scale(self.u[f[k] as usize], at.weights[k]))
@@ -357,22 +383,13 @@ impl<'a> Dilations<'a> {
     /// The points of `vertices` on the ellipsoid for `T(z) = rotation · z + g(0)` (rotation
     /// = λ e^{iθ}); `None` if a point falls outside the triangulation.
     fn points(&self, vertices: &[u32], rotation: Complex64) -> Option<Vec<[f64; 3]>> {
-        let mut hints = self.hints.lock().ok()?;
-        let found: Vec<Option<(u32, [f64; 3])>> = vertices
+        vertices
             .par_iter()
             .map(|&v| {
-                let mut hint = hints[v as usize];
-                let q = self.pull_back(self.plane[v as usize], rotation, &mut hint)?;
-                Some((hint, self.ellipsoid.project(self.ellipsoid.from_sphere(q))))
+                let q = self.pull_back(self.plane[v as usize], rotation)?;
+                Some(self.ellipsoid.project(self.ellipsoid.from_sphere(q)))
             })
-            .collect();
-        let mut out = Vec::with_capacity(vertices.len());
-        for (&v, f) in vertices.iter().zip(found) {
-            let (hint, p) = f?;
-            hints[v as usize] = hint;
-            out.push(p);
-        }
-        Some(out)
+            .collect()
     }
 
     /// The map of every vertex for `T(z) = rotation · z + g(0)`.
@@ -397,9 +414,8 @@ impl<'a> Dilations<'a> {
         let (t, _) = sampled_golden_section(misfit, -DILATION_RANGE, DILATION_RANGE, 7, 24);
         // θ by a few fixed-point steps: turn by the longitude the rightmost vertex lands at.
         let mut rotation = Complex64::new(t.exp(), 0.0);
-        let mut hint = self.hints.lock().ok()?[self.right];
         for _ in 0..4 {
-            let Some(q) = self.pull_back(self.plane[self.right], rotation, &mut hint) else {
+            let Some(q) = self.pull_back(self.plane[self.right], rotation) else {
                 break;
             };
             let longitude = q[1].atan2(q[0]);

@@ -6,8 +6,8 @@ mod lbs;
 mod periodic_lbs;
 
 pub use beltrami::{
-    beltrami_coefficient, beltrami_coefficient_plane_to_surface, beltrami_coefficient_surface,
-    beltrami_coefficient_surfaces, triangle_beltrami, truncate,
+    beltrami_coefficient, beltrami_coefficient_from_frames, beltrami_coefficient_plane_to_surface,
+    beltrami_coefficient_surface, beltrami_coefficient_surfaces, triangle_beltrami, truncate,
 };
 pub use lbs::{LinearBeltramiSolver, generalized_laplacian_weights, surface_laplacian_weights};
 pub use periodic_lbs::PeriodicBeltramiSolver;

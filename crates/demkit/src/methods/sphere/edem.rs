@@ -22,7 +22,7 @@ use super::sdem::{self, Target, equalize};
 use crate::geometry::ellipsoid::Ellipsoid;
 use crate::geometry::sphere::spherical_flipped;
 use crate::geometry::{norm, sub};
-use crate::init::ellipsoidal_conformal::ellipsoidal_conformal_map_in_order;
+use crate::init::ellipsoidal_conformal::NormalizedSphere;
 use crate::linalg::VertexOrder;
 use crate::methods::MethodConfig;
 use crate::methods::{MapResult, ProgressFn};
@@ -73,14 +73,8 @@ impl MethodConfig for Config {
         let mut notes = Vec::new();
         let k = self.ellipsoid.normalizing_exponent();
         let domain = self.ellipsoid.scaled_by_power_of_two(k);
-        let initial = initial_map(
-            mesh,
-            population,
-            &self.ellipsoid,
-            &domain,
-            order,
-            &mut notes,
-        )?;
+        let initial =
+            InitialMaps::new(mesh, population, order).onto(&self.ellipsoid, &domain, &mut notes)?;
         let time_init = t0.elapsed().as_secs_f64();
         let on = Target {
             domain,
@@ -111,40 +105,62 @@ impl MethodConfig for Config {
     }
 }
 
-/// The initial map of EDEM and EDEQ onto `domain` (the computation's copy of `ellipsoid`, scaled
-/// by a power of two): the surface itself when it lies on `ellipsoid` ([`own_initial_map`]),
-/// else its ellipsoidal conformal map. A map that folds (a mesh too coarse) is an error.
-pub(crate) fn initial_map(
-    mesh: &TriMesh,
-    population: &[f64],
-    ellipsoid: &Ellipsoid,
-    domain: &Ellipsoid,
-    order: &VertexOrder,
-    notes: &mut Vec<String>,
-) -> Result<Vec<[f64; 3]>> {
-    let initial = match own_initial_map(mesh, ellipsoid, notes) {
-        Some(own) => own.into_iter().map(|p| domain.from_sphere(p)).collect(),
-        None => ellipsoidal_conformal_map_in_order(
-            &mesh.positions,
-            &mesh.faces,
-            domain,
+/// The initial maps of EDEM and EDEQ of one surface, onto as many ellipsoids as asked: the
+/// surface itself when it lies on the ellipsoid ([`own_initial_map`]), else its ellipsoidal
+/// conformal map, whose steps that do not depend on the ellipsoid are done once
+/// ([`NormalizedSphere`]).
+pub(crate) struct InitialMaps<'a> {
+    mesh: &'a TriMesh,
+    population: &'a [f64],
+    order: &'a VertexOrder,
+    sphere: Option<NormalizedSphere>,
+}
+
+impl<'a> InitialMaps<'a> {
+    /// The maps of `mesh` with its `population` and elimination `order`.
+    pub(crate) fn new(mesh: &'a TriMesh, population: &'a [f64], order: &'a VertexOrder) -> Self {
+        Self {
+            mesh,
             population,
             order,
-            notes,
-        )?,
-    };
-    if mesh
-        .faces
-        .par_iter()
-        .any(|&f| spherical_flipped(&initial, f))
-    {
-        return Err(Error::InvalidMesh(format!(
-            "the mesh is too small to map onto the ellipsoid: with {} faces its initial map \
-             folds (subdivide it)",
-            mesh.n_faces()
-        )));
+            sphere: None,
+        }
     }
-    Ok(initial)
+
+    /// The initial map onto `domain`, the computation's copy of `ellipsoid` (scaled by a power
+    /// of two). A map that folds (a mesh too coarse) is an error.
+    pub(crate) fn onto(
+        &mut self,
+        ellipsoid: &Ellipsoid,
+        domain: &Ellipsoid,
+        notes: &mut Vec<String>,
+    ) -> Result<Vec<[f64; 3]>> {
+        let mesh = self.mesh;
+        let initial = match own_initial_map(mesh, ellipsoid, notes) {
+            Some(own) => own.into_iter().map(|p| domain.from_sphere(p)).collect(),
+            None => {
+                let sphere = match self.sphere.take() {
+                    Some(s) => s,
+                    None => NormalizedSphere::new(&mesh.positions, &mesh.faces, self.order, notes)?,
+                };
+                let map = sphere.onto(&mesh.faces, domain, self.population, self.order, notes);
+                self.sphere = Some(sphere);
+                map
+            }
+        };
+        if mesh
+            .faces
+            .par_iter()
+            .any(|&f| spherical_flipped(&initial, f))
+        {
+            return Err(Error::InvalidMesh(format!(
+                "the mesh is too small to map onto the ellipsoid: with {} faces its initial map \
+                 folds (subdivide it)",
+                mesh.n_faces()
+            )));
+        }
+        Ok(initial)
+    }
 }
 
 /// The surface as its own initial map when it lies on `ellipsoid` (every vertex within

@@ -23,14 +23,15 @@
 //! lowers the energy; the map of lowest energy is returned, equalized on its radii.
 
 use super::density::SphereDiffusion;
+use super::edem::InitialMaps;
 use super::input::SphereInput;
 use super::sdem::{self, Target, equalize};
 use crate::geometry::ellipsoid::Ellipsoid;
-use crate::geometry::{cross, dot};
+use crate::geometry::{cross, dot, local_frame};
 use crate::linalg::VertexOrder;
 use crate::methods::MethodConfig;
 use crate::methods::{MapResult, Progress, ProgressFn, StopReason};
-use crate::qc::beltrami_coefficient_surfaces;
+use crate::qc::beltrami_coefficient_from_frames;
 use crate::{Error, Result, TriMesh};
 use std::time::Instant;
 
@@ -69,6 +70,10 @@ const ENERGY_DT: f64 = 0.1;
 /// Nelder–Mead steps per radii search.
 const SEARCH_STEPS: usize = 80;
 
+/// A radii search ends when its simplex spans less than this in log b and log c: a tenth of
+/// the least change of the radii the descent takes ([`RADII_TOL`]).
+const SEARCH_TOL: f64 = 0.1 * RADII_TOL;
+
 impl MethodConfig for Config {
     /// Computes the EDEQ of `mesh` (a genus-0 closed surface) with one `population` value per face.
     /// The result lies on the ellipsoid it chose ([`MapResult::ellipsoid`]), in input vertex order.
@@ -89,8 +94,8 @@ impl MethodConfig for Config {
         let domain = guess.scaled_by_power_of_two(k);
         let (local, mesh, population, order) = input.parts();
         let mut notes = Vec::new();
-        let initial =
-            super::edem::initial_map(mesh, population, &guess, &domain, order, &mut notes)?;
+        let mut initial_maps = InitialMaps::new(mesh, population, order);
+        let initial = initial_maps.onto(&guess, &domain, &mut notes)?;
         let time_init = t0.elapsed().as_secs_f64();
         let energy = Energy::new(mesh, population, order, self.alpha)?;
         let e_initial = energy.of(&initial)?.total(self.alpha);
@@ -144,14 +149,8 @@ impl MethodConfig for Config {
                 // A fresh start on the new radii: the ellipsoidal conformal map onto them (a map
                 // carried over would keep the distortion of the flows before).
                 let mut ignored = Vec::new();
-                let start = super::edem::initial_map(
-                    mesh,
-                    population,
-                    &domain.scaled_by_power_of_two(-k),
-                    &domain,
-                    order,
-                    &mut ignored,
-                )?;
+                let start =
+                    initial_maps.onto(&domain.scaled_by_power_of_two(-k), &domain, &mut ignored)?;
                 let trial = flow(domain, start)?;
                 rounds += 1;
                 if trial.result.converged && trial.energy < best.energy {
@@ -295,7 +294,7 @@ fn best_radii(energy: &Energy, domain: &Ellipsoid, x: &[[f64; 3]]) -> Result<Ell
             Err(_) => f64::INFINITY,
         }
     };
-    let (s, value) = crate::optimize::nelder_mead(cost, [0.0, 0.0], 0.05, SEARCH_STEPS);
+    let (s, value) = crate::optimize::nelder_mead(cost, [0.0, 0.0], 0.05, SEARCH_STEPS, SEARCH_TOL);
     if value.is_finite() && value < cost([0.0, 0.0]) {
         at(s)
     } else {
@@ -322,6 +321,8 @@ impl Terms {
 /// The energy of maps of one mesh (module docs), with its diffusion operator.
 pub(crate) struct Energy<'a> {
     mesh: &'a TriMesh,
+    /// The input's faces in their own frames ([`local_frame`]), for μ.
+    frames: Vec<[[f64; 2]; 3]>,
     diffusion: SphereDiffusion<'a>,
     alpha: f64,
 }
@@ -333,8 +334,14 @@ impl<'a> Energy<'a> {
         order: &VertexOrder,
         alpha: f64,
     ) -> Result<Self> {
+        let frames = mesh
+            .faces
+            .iter()
+            .map(|f| local_frame(f.map(|v| mesh.positions[v as usize])))
+            .collect();
         Ok(Self {
             mesh,
+            frames,
             diffusion: SphereDiffusion::new(
                 Ellipsoid::UNIT_SPHERE,
                 mesh.n_vertices(),
@@ -346,10 +353,24 @@ impl<'a> Energy<'a> {
         })
     }
 
-    /// The terms of the map `x` (on any ellipsoid).
+    /// The terms of the map `x` (on any ellipsoid): μ is computed on a second thread beside
+    /// the diffusion solve.
     pub(crate) fn of(&self, x: &[[f64; 3]]) -> Result<Terms> {
         let d = self.diffusion.measure(x);
-        let (_, grad) = self.diffusion.diffused_gradient(x, &d, ENERGY_DT)?;
+        let (frames, faces) = (&self.frames, &self.mesh.faces);
+        let (grad, distortion) = std::thread::scope(|s| {
+            let mu = s.spawn(|| {
+                beltrami_coefficient_from_frames(frames, x, faces)
+                    .iter()
+                    .map(|m| m.norm_sqr())
+                    .sum::<f64>()
+            });
+            let grad = self.diffusion.diffused_gradient(x, &d, ENERGY_DT);
+            (grad, mu.join())
+        });
+        let (_, grad) = grad?;
+        let distortion = distortion
+            .map_err(|_| Error::Numerical("the Beltrami coefficient's thread failed".into()))?;
         let top = d.rho_v.iter().fold(0.0f64, |m, &r| m.max(r));
         let density = if top > 0.0 {
             grad.iter()
@@ -358,10 +379,6 @@ impl<'a> Energy<'a> {
         } else {
             0.0
         };
-        let distortion = beltrami_coefficient_surfaces(&self.mesh.positions, x, &self.mesh.faces)
-            .iter()
-            .map(|m| m.norm_sqr())
-            .sum();
         Ok(Terms {
             density,
             distortion,
