@@ -34,6 +34,8 @@ pub enum Command {
     Render(RenderArgs),
     /// Split every triangle into four at its edge midpoints (the same surface, finer).
     Subdivide(SubdivideArgs),
+    /// Cut holes into a surface around given points (for DEQ and the circle-domain map).
+    Cut(CutArgs),
     /// Time `demkit map` on a suite of meshes: iterations, accuracy and peak memory per case.
     Bench(BenchArgs),
     /// `demkit map` that also prints its peak resident memory on stdout: how `demkit bench`
@@ -491,6 +493,34 @@ pub struct SubdivideArgs {
     /// faces, one value per line.
     #[arg(long, value_name = "FILE", requires = "population")]
     pub population_out: Option<PathBuf>,
+    /// No summary line and no warnings.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `demkit cut MESH --hole X,Y,Z,R [--hole ...] [--planar] --out OUT [--quiet]`
+#[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
+pub struct CutArgs {
+    /// The input mesh (.obj, .ply, .off, .stl).
+    pub mesh: PathBuf,
+    /// Output mesh (.obj or .ply): the faces outside every hole, the vertices they use in
+    /// their input order.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// A hole: every face whose centroid lies within R of the point (X, Y, Z) is removed
+    /// (repeat for several holes).
+    #[arg(
+        long,
+        value_name = "X,Y,Z,R",
+        required = true,
+        allow_hyphen_values = true
+    )]
+    pub hole: Vec<String>,
+    /// Measure the distance to a hole's centre in the plane z = 0 (a cylinder through the
+    /// surface instead of a ball).
+    #[arg(long)]
+    pub planar: bool,
     /// No summary line and no warnings.
     #[arg(long)]
     pub quiet: bool,

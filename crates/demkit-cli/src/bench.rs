@@ -402,6 +402,18 @@ fn prepare(exe: &Path, dir: &Path, case: &Case, data: Option<&Path>) -> Result<I
             out
         }
     };
+    let mesh = if case.holes.is_empty() {
+        mesh
+    } else {
+        let out = dir.join("mesh-holes.ply");
+        let mut all: Vec<OsString> = vec!["cut".into(), mesh.into(), "--planar".into()];
+        for h in case.holes {
+            all.extend(["--hole".into(), OsString::from(h)]);
+        }
+        all.extend(["--out".into(), out.clone().into(), "--quiet".into()]);
+        tool(exe, dir, &all)?;
+        out
+    };
     let torus = match case.target {
         Target::None => None,
         Target::Radii(r) => Some(r.to_string()),

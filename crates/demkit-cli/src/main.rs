@@ -7,6 +7,7 @@ mod args;
 mod bench;
 mod cartogram;
 mod cartogram_png;
+mod cut;
 mod generate;
 mod info;
 mod map;
@@ -200,6 +201,7 @@ fn main() -> ExitCode {
             args::Command::Register(a) => register::run(&a),
             args::Command::Render(a) => render::run(&a),
             args::Command::Subdivide(a) => subdivide::run(&a),
+            args::Command::Cut(a) => cut::run(&a),
             args::Command::Bench(a) => bench::run(&a),
             args::Command::BenchMap(a) => bench::map_with_peak_memory(&a),
         })

@@ -77,7 +77,14 @@ pub struct Case {
     /// The surface this case is one size of (cases with the same ladder are compared by size);
     /// empty for none.
     pub ladder: &'static str,
+    /// Holes cut into the mesh once it is made (`demkit cut --planar --hole X,Y,Z,R` for each);
+    /// empty for none.
+    pub holes: &'static [&'static str],
 }
+
+/// Holes around the eyes of `open/human_face` (the DEQ paper's Fig. 9), for `demkit cut
+/// --planar`.
+const EYES: &[&str] = &["0.028,0.265,0,0.012", "-0.028,0.265,0,0.012"];
 
 /// The population of the generated spheres: density rising along z (README's gallery).
 const SPHERE_POPULATION: &str = "area*(1+4.5*(z+1))";
@@ -105,6 +112,7 @@ fn generated(
         method,
         target,
         ladder,
+        holes: &[],
     }
 }
 
@@ -125,6 +133,7 @@ fn data(name: &'static str, method: &'static str, population: Population) -> Cas
         method,
         target,
         ladder,
+        holes: &[],
     }
 }
 
@@ -232,6 +241,30 @@ pub fn suite(data_given: bool, scale: bool) -> Vec<Case> {
                 population: DataFile,
                 ..subdivided("scale/torus_1-sub3", "genus1/torus_1", 3, "tdem")
             },
+            // Surfaces with holes at scale (DEQ): the face with its eyes cut out, 0.3 and 1.2
+            // million faces.
+            Case {
+                holes: EYES,
+                ladder: "open/human_face with eye holes",
+                ..split(
+                    "scale/human_face-eyes-parts3",
+                    "open/human_face",
+                    1,
+                    3,
+                    "deq",
+                )
+            },
+            Case {
+                holes: EYES,
+                ladder: "open/human_face with eye holes",
+                ..split(
+                    "scale/human_face-eyes-parts6",
+                    "open/human_face",
+                    1,
+                    6,
+                    "deq",
+                )
+            },
         ]);
     }
     cases
@@ -263,6 +296,15 @@ impl Case {
 
     /// How the mesh is made, in words (for `--list` and the JSON).
     pub fn mesh_description(&self) -> String {
+        let made = self.made_description();
+        match self.holes.len() {
+            0 => made,
+            n => format!("{made}, {n} holes cut"),
+        }
+    }
+
+    /// How the mesh is made before its holes are cut, in words.
+    fn made_description(&self) -> String {
         match self.source {
             Source::Generated(args) => format!("generate {}", args.join(" ")),
             Source::Data(name) => format!("{name}.obj"),
@@ -347,6 +389,15 @@ mod tests {
             case("scale/human_face-parts6").mesh_description(),
             "open/human_face.obj subdivided 1x in 6 parts"
         );
+        assert_eq!(
+            case("scale/human_face-eyes-parts6").mesh_description(),
+            "open/human_face.obj subdivided 1x in 6 parts, 2 holes cut"
+        );
+        // A population file belongs to the uncut mesh: cases with holes take an expression
+        // or the area.
+        for c in all.iter().filter(|c| !c.holes.is_empty()) {
+            assert!(!matches!(c.population, Population::DataFile), "{}", c.name);
+        }
         let torus = case("scale/torus_1-sub3");
         assert_eq!(torus.data_files(), case("genus1/torus_1").data_files());
         assert_eq!(

@@ -1,6 +1,7 @@
-//! Triangle meshes: the [`TriMesh`] type, topology, validation, welding, edge splitting and
-//! midpoint subdivision.
+//! Triangle meshes: the [`TriMesh`] type, topology, validation, welding, edge splitting,
+//! midpoint subdivision and holes cut around points.
 
+pub mod holes;
 pub(crate) mod locality;
 pub mod scale;
 pub mod split;
@@ -11,6 +12,7 @@ pub(crate) mod union_find;
 pub mod validate;
 pub mod weld;
 
+pub use holes::{Hole, cut_holes};
 pub(crate) use locality::Locality;
 pub use subdivide::{
     split_population, split_population_parts, subdivide, subdivide_levels, subdivide_parts,

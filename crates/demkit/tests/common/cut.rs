@@ -2,63 +2,18 @@
 //! the jagged, ear-ridden loops real cut-outs have.
 
 use demkit::TriMesh;
+use demkit::mesh::Hole;
 use std::collections::HashMap;
 
 /// `mesh` with every face removed whose centroid lies within `r` of a hole's centre `c`
-/// (distance in the plane z = 0 when `planar`), then cleaned into a manifold surface: faces at a
-/// vertex where two holes touch are removed too, and only the largest edge-connected piece is
-/// kept. Vertices no face uses are dropped.
+/// (distance in the plane z = 0 when `planar`), made a manifold surface again
+/// ([`demkit::mesh::cut_holes`]).
 pub fn cut_holes(mesh: &TriMesh, holes: &[([f64; 3], f64)], planar: bool) -> TriMesh {
-    let centroid = |f: &[u32; 3]| {
-        let p = f.map(|v| mesh.positions[v as usize]);
-        [0, 1, 2].map(|k| (p[0][k] + p[1][k] + p[2][k]) / 3.0)
-    };
-    let dist = |a: [f64; 3], b: [f64; 3]| {
-        let d = [
-            a[0] - b[0],
-            a[1] - b[1],
-            if planar { 0.0 } else { a[2] - b[2] },
-        ];
-        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
-    };
-    let mut faces: Vec<[u32; 3]> = mesh
-        .faces
+    let holes: Vec<Hole> = holes
         .iter()
-        .filter(|f| holes.iter().all(|&(c, r)| dist(centroid(f), c) > r))
-        .copied()
+        .map(|&(centre, radius)| Hole { centre, radius })
         .collect();
-    loop {
-        let mut boundary_degree: HashMap<u32, usize> = HashMap::new();
-        for (a, b) in boundary_edges(&faces) {
-            *boundary_degree.entry(a).or_default() += 1;
-            *boundary_degree.entry(b).or_default() += 1;
-        }
-        let pinched: Vec<u32> = boundary_degree
-            .into_iter()
-            .filter(|&(_, d)| d > 2)
-            .map(|(v, _)| v)
-            .collect();
-        if pinched.is_empty() {
-            break;
-        }
-        faces.retain(|f| !f.iter().any(|v| pinched.contains(v)));
-    }
-    let faces = largest_piece(&faces);
-    let mut index = vec![u32::MAX; mesh.n_vertices()];
-    let mut positions = Vec::new();
-    let faces: Vec<[u32; 3]> = faces
-        .iter()
-        .map(|f| {
-            f.map(|v| {
-                if index[v as usize] == u32::MAX {
-                    index[v as usize] = positions.len() as u32;
-                    positions.push(mesh.positions[v as usize]);
-                }
-                index[v as usize]
-            })
-        })
-        .collect();
-    TriMesh::new(positions, faces)
+    demkit::mesh::cut_holes(mesh, &holes, planar).expect("the holes leave a surface")
 }
 
 /// `k` hole centres on `mesh`, drawn from its face centroids by a fixed `seed`, each at least
@@ -119,47 +74,4 @@ fn boundary_edges(faces: &[[u32; 3]]) -> Vec<(u32, u32)> {
         .collect();
     edges.sort_unstable();
     edges
-}
-
-/// The faces of the largest piece joined across edges.
-fn largest_piece(faces: &[[u32; 3]]) -> Vec<[u32; 3]> {
-    let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
-    for (i, f) in faces.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (f[k], f[(k + 1) % 3]);
-            by_edge.entry((a.min(b), a.max(b))).or_default().push(i);
-        }
-    }
-    let mut piece = vec![usize::MAX; faces.len()];
-    let mut sizes = Vec::new();
-    for start in 0..faces.len() {
-        if piece[start] != usize::MAX {
-            continue;
-        }
-        let id = sizes.len();
-        let mut stack = vec![start];
-        piece[start] = id;
-        let mut size = 0;
-        while let Some(i) = stack.pop() {
-            size += 1;
-            let f = faces[i];
-            for k in 0..3 {
-                let (a, b) = (f[k], f[(k + 1) % 3]);
-                for &j in &by_edge[&(a.min(b), a.max(b))] {
-                    if piece[j] == usize::MAX {
-                        piece[j] = id;
-                        stack.push(j);
-                    }
-                }
-            }
-        }
-        sizes.push(size);
-    }
-    let best = (0..sizes.len()).max_by_key(|&i| sizes[i]).unwrap_or(0);
-    faces
-        .iter()
-        .zip(&piece)
-        .filter(|&(_, &p)| p == best)
-        .map(|(f, _)| *f)
-        .collect()
 }
