@@ -7,13 +7,31 @@ use std::collections::HashMap;
 
 /// `mesh` with every face removed whose centroid lies within `r` of a hole's centre `c`
 /// (distance in the plane z = 0 when `planar`), made a manifold surface again
-/// ([`demkit::mesh::cut_holes`]).
+/// ([`demkit::mesh::cut_holes`]), its vertices numbered in the order the faces first use them
+/// (the numbering the tests' placements were chosen with: the coarse copy of a large surface
+/// depends on it).
 pub fn cut_holes(mesh: &TriMesh, holes: &[([f64; 3], f64)], planar: bool) -> TriMesh {
     let holes: Vec<Hole> = holes
         .iter()
         .map(|&(centre, radius)| Hole { centre, radius })
         .collect();
-    demkit::mesh::cut_holes(mesh, &holes, planar).expect("the holes leave a surface")
+    let cut = demkit::mesh::cut_holes(mesh, &holes, planar).expect("the holes leave a surface");
+    let mut index = vec![u32::MAX; cut.n_vertices()];
+    let mut positions = Vec::with_capacity(cut.n_vertices());
+    let faces = cut
+        .faces
+        .iter()
+        .map(|f| {
+            f.map(|v| {
+                if index[v as usize] == u32::MAX {
+                    index[v as usize] = positions.len() as u32;
+                    positions.push(cut.positions[v as usize]);
+                }
+                index[v as usize]
+            })
+        })
+        .collect();
+    TriMesh::new(positions, faces)
 }
 
 /// `k` hole centres on `mesh`, drawn from its face centroids by a fixed `seed`, each at least
