@@ -76,6 +76,7 @@ fn _demkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tools::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(tools::write_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(tools::generate, m)?)?;
+    m.add_function(wrap_pyfunction!(tools::cut_holes, m)?)?;
     m.add_function(wrap_pyfunction!(tools::metrics, m)?)?;
     m.add_function(wrap_pyfunction!(tools::cartogram, m)?)?;
     Ok(())

@@ -49,6 +49,31 @@ pub fn write_mesh(
     py.detach(|| guarded(|| demkit::io::write_mesh(&path, &mesh).map_err(to_py)))
 }
 
+/// The surface (`vertices`, `faces`) with holes cut around points (`demkit cut`): `holes`
+/// as (x, y, z, r); `planar` measures distances in the plane z = 0. Returns (vertices,
+/// faces) of the cut surface, its vertices in their input order.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces_, holes, planar))]
+pub fn cut_holes<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArray2<'py, f64>,
+    faces_: PyReadonlyArray2<'py, i64>,
+    holes: Vec<(f64, f64, f64, f64)>,
+    planar: bool,
+) -> PyResult<MeshArrays<'py>> {
+    let mesh = TriMesh::new(positions(&vertices)?, faces(&faces_)?);
+    let holes: Vec<demkit::mesh::Hole> = holes
+        .into_iter()
+        .map(|(x, y, z, radius)| demkit::mesh::Hole {
+            centre: [x, y, z],
+            radius,
+        })
+        .collect();
+    let cut =
+        py.detach(|| guarded(|| demkit::mesh::cut_holes(&mesh, &holes, planar).map_err(to_py)))?;
+    Ok(mesh_arrays(py, &cut))
+}
+
 /// An option of `generate`, or its default.
 fn option<'py, T: for<'a> FromPyObject<'a, 'py>>(
     options: &Bound<'py, PyDict>,

@@ -25,6 +25,7 @@ __all__ = [
     "Map",
     "NumericalError",
     "cartogram",
+    "cut_holes",
     "generate",
     "map",
     "methods",
@@ -420,6 +421,37 @@ def generate(kind: str, **options: Any) -> Tuple[np.ndarray, np.ndarray]:
     if "holes" in options:
         options["holes"] = [tuple(float(x) for x in h) for h in options["holes"]]
     return _demkit.generate(kind, options)
+
+
+def cut_holes(
+    vertices: Any,
+    faces: Any = None,
+    holes: Sequence[Sequence[float]] = (),
+    planar: bool = False,
+) -> Tuple[np.ndarray, np.ndarray]:
+    """Cut holes into a surface around points (``demkit cut``).
+
+    Every face whose centroid lies within r of (x, y, z) is removed, then the faces at a
+    vertex where two loops touch, and every piece but the largest.
+
+    Args:
+        vertices  (n, 3) or (n, 2) float positions; or an object with .vertices and .faces
+        faces     (m, 3) integer vertex indices
+        holes     (x, y, z, r) per hole, r > 0
+        planar    measure the distance in the plane z = 0 (a cylinder through the surface)
+
+    Returns:
+        V  (k, 3) float64 vertex positions, the kept vertices in their input order
+        F  (l, 3) int64 faces
+    """
+    v, f = _mesh_args(vertices, faces)
+    try:
+        rows = [tuple(float(x) for x in h) for h in holes]
+    except (TypeError, ValueError):
+        raise InputError("cut_holes: every hole is (x, y, z, r), four numbers") from None
+    if not rows or any(len(h) != 4 for h in rows):
+        raise InputError("cut_holes: give at least one hole, each (x, y, z, r)")
+    return _demkit.cut_holes(_as_vertices(v), _as_faces(f), rows, bool(planar))
 
 
 def metrics(

@@ -25,6 +25,12 @@ def write_mesh(
     faces_: npt.NDArray[np.int64],
 ) -> None: ...
 def generate(kind: str, options: dict[str, Any]) -> _Mesh: ...
+def cut_holes(
+    vertices: npt.NDArray[np.float64],
+    faces_: npt.NDArray[np.int64],
+    holes: list[tuple[float, float, float, float]],
+    planar: bool,
+) -> _Mesh: ...
 def metrics(
     vertices: npt.NDArray[np.float64],
     faces_: npt.NDArray[np.int64],
