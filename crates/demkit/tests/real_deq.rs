@@ -255,6 +255,15 @@ fn variation(name: &str, mesh: &TriMesh, pop: &[f64], holes: usize) {
     assert_bounds(name, &m, 0.12, 0.4);
 }
 
+/// [`variation`] of the mesh `rel` with `k` holes cut at the placement `seed` of
+/// [`random_holes`] (radius `share` of its diagonal), with the population `spec`.
+fn random_cut(name: &str, rel: &str, k: usize, seed: u64, share: f64, spec: &str) {
+    let surface = load(rel);
+    let mesh = cut_holes(&surface, &random_holes(&surface, k, seed, share), false);
+    let pop = population(&mesh, spec);
+    variation(name, &mesh, &pop, k);
+}
+
 /// The human face with two holes cut around the eyes (the DEQ paper's Fig. 9 setting).
 fn face_with_eye_holes() -> TriMesh {
     let face = load("open/human_face.obj");
@@ -281,10 +290,14 @@ fn face_with_eye_holes_and_a_population_bump() {
 #[test]
 #[ignore = "needs real meshes (DEMKIT_DATA)"]
 fn chinese_lion_with_three_holes() {
-    let lion = load("open/chinese_lion.obj");
-    let mesh = cut_holes(&lion, &random_holes(&lion, 3, 1, 0.04), false);
-    let pop = population(&mesh, "area");
-    variation("chinese lion, 3 holes", &mesh, &pop, 3);
+    random_cut(
+        "chinese lion, 3 holes",
+        "open/chinese_lion.obj",
+        3,
+        1,
+        0.04,
+        "area",
+    );
 }
 
 /// The human face with three balls cut out around the nose and the eyes (opening six holes
@@ -386,10 +399,7 @@ fn u_shape_with_three_holes() {
 #[test]
 #[ignore = "needs real meshes (DEMKIT_DATA)"]
 fn hand_with_three_holes() {
-    let hand = load("open/hand.obj");
-    let mesh = cut_holes(&hand, &random_holes(&hand, 3, 2, 0.03), false);
-    let pop = population(&mesh, "area");
-    variation("hand, 3 holes", &mesh, &pop, 3);
+    random_cut("hand, 3 holes", "open/hand.obj", 3, 2, 0.03, "area");
 }
 
 /// The hand with three holes at a placement whose fine map folds about 1 200 interior faces
@@ -397,10 +407,14 @@ fn hand_with_three_holes() {
 #[test]
 #[ignore = "needs real meshes (DEMKIT_DATA)"]
 fn hand_with_three_holes_folding_on_prolongation() {
-    let hand = load("open/hand.obj");
-    let mesh = cut_holes(&hand, &random_holes(&hand, 3, 11, 0.03), false);
-    let pop = population(&mesh, "area");
-    variation("hand, 3 holes (seed 11)", &mesh, &pop, 3);
+    random_cut(
+        "hand, 3 holes (seed 11)",
+        "open/hand.obj",
+        3,
+        11,
+        0.03,
+        "area",
+    );
 }
 
 /// The cortical surface (96 811 faces) with four holes cut through its folds, and a
@@ -408,10 +422,15 @@ fn hand_with_three_holes_folding_on_prolongation() {
 #[test]
 #[ignore = "needs real meshes (DEMKIT_DATA)"]
 fn human_brain_with_four_holes() {
-    let brain = load("open/human_brain.obj");
-    let mesh = cut_holes(&brain, &random_holes(&brain, 4, 9, 0.03), false);
-    let pop = population(&mesh, "area*(1+exp(-(x^2+y^2)/2000))");
-    variation("human brain, 4 holes", &mesh, &pop, 4);
+    let pop = "area*(1+exp(-(x^2+y^2)/2000))";
+    random_cut(
+        "human brain, 4 holes",
+        "open/human_brain.obj",
+        4,
+        9,
+        0.03,
+        pop,
+    );
 }
 
 // LDEQ.

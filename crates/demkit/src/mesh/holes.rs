@@ -71,22 +71,10 @@ pub fn cut_holes(mesh: &TriMesh, holes: &[Hole], planar: bool) -> Result<TriMesh
             "the holes leave no face of the mesh".into(),
         ));
     }
-    let mut index = vec![u32::MAX; n];
-    for &v in faces.iter().flatten() {
-        index[v as usize] = 0;
-    }
-    let mut positions = Vec::new();
-    for (v, slot) in index.iter_mut().enumerate() {
-        if *slot == 0 {
-            *slot = positions.len() as u32;
-            positions.push(mesh.positions[v]);
-        }
-    }
-    let faces = faces
-        .into_iter()
-        .map(|f| f.map(|v| index[v as usize]))
-        .collect();
-    Ok(TriMesh::new(positions, faces))
+    Ok(super::validate::drop_unused_vertices(
+        mesh.positions.clone(),
+        faces,
+    ))
 }
 
 /// The faces of the largest piece of `faces` (on `n` vertices) joined across edges; the first

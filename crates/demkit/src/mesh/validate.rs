@@ -71,13 +71,26 @@ pub fn validate(mesh: TriMesh) -> Result<(TriMesh, Vec<String>)> {
     let Some((count, first)) = unused else {
         return Ok((mesh, warnings));
     };
-    let TriMesh { positions, faces } = mesh;
+    warnings.insert(
+        0,
+        format!(
+            "dropped {count} unreferenced {} (first: {first}); output vertex indices refer to \
+             the remaining vertices",
+            if count == 1 { "vertex" } else { "vertices" }
+        ),
+    );
+    Ok((drop_unused_vertices(mesh.positions, mesh.faces), warnings))
+}
+
+/// The mesh of `faces` on the vertices they use, in their order in `positions`, the faces
+/// renumbered to match (every index of `faces` below `positions.len()`).
+pub(crate) fn drop_unused_vertices(positions: Vec<[f64; 3]>, faces: Vec<[u32; 3]>) -> TriMesh {
     let mut used = vec![false; positions.len()];
     for &v in faces.iter().flatten() {
         used[v as usize] = true;
     }
     let mut new_index = vec![u32::MAX; positions.len()];
-    let mut kept = Vec::with_capacity(positions.len() - count);
+    let mut kept = Vec::new();
     for (v, p) in positions.into_iter().enumerate() {
         if used[v] {
             new_index[v] = kept.len() as u32;
@@ -88,15 +101,7 @@ pub fn validate(mesh: TriMesh) -> Result<(TriMesh, Vec<String>)> {
         .into_iter()
         .map(|f| f.map(|v| new_index[v as usize]))
         .collect();
-    warnings.insert(
-        0,
-        format!(
-            "dropped {count} unreferenced {} (first: {first}); output vertex indices refer to \
-             the remaining vertices",
-            if count == 1 { "vertex" } else { "vertices" }
-        ),
-    );
-    Ok((TriMesh::new(kept, faces), warnings))
+    TriMesh::new(kept, faces)
 }
 
 /// Collects up to [`MAX_PER_KIND`] messages of one kind, counting the rest.

@@ -139,13 +139,16 @@ impl<'a> InitialMaps<'a> {
         let initial = match own_initial_map(mesh, ellipsoid, notes) {
             Some(own) => own.into_iter().map(|p| domain.from_sphere(p)).collect(),
             None => {
-                let sphere = match self.sphere.take() {
-                    Some(s) => s,
-                    None => NormalizedSphere::new(&mesh.positions, &mesh.faces, self.order, notes)?,
+                let sphere = match self.sphere {
+                    Some(ref s) => s,
+                    None => self.sphere.insert(NormalizedSphere::new(
+                        &mesh.positions,
+                        &mesh.faces,
+                        self.order,
+                        notes,
+                    )?),
                 };
-                let map = sphere.onto(&mesh.faces, domain, self.population, self.order, notes);
-                self.sphere = Some(sphere);
-                map
+                sphere.onto(&mesh.faces, domain, self.population, self.order, notes)
             }
         };
         if mesh
